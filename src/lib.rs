@@ -1,0 +1,7 @@
+//! pbdda: discontinuous deformation analysis of particle-block systems in the
+//! variational-inequality form of Fan, Zhao & Zheng (2018), "PB-DDA".
+
+pub mod contact;
+pub mod geometry;
+pub mod model;
+pub mod vi;

@@ -1,0 +1,176 @@
+//! The validated input of a simulation: what a scene file describes, after every check of
+//! `scene.rs` has passed. Bodies are in their initial configuration; names are resolved to
+//! indices. Nothing here changes during a run (that is `World`'s job).
+
+use crate::geometry::Vec2;
+
+/// A whole scene, ready to be turned into a [`crate::world::World`].
+#[derive(Debug, Clone)]
+pub struct Model {
+    /// Free text from `[scene] name`.
+    pub name: String,
+    pub time: TimeSettings,
+    pub physics: Physics,
+    pub contact: ContactSettings,
+    pub solver: SolverSettings,
+    pub materials: Vec<Material>,
+    pub interfaces: Vec<Interface>,
+    pub bodies: Vec<BodySpec>,
+    pub loads: Vec<Load>,
+    pub monitors: Vec<Monitor>,
+    pub output: OutputSettings,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct TimeSettings {
+    /// dt [s] (the paper's Δ).
+    pub step: f64,
+    /// Number of steps to run (from `steps`, or `ceil(end / step)` when `end` is given).
+    pub steps: usize,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Plane {
+    Stress,
+    Strain,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Physics {
+    /// Body acceleration [m/s²].
+    pub gravity: Vec2,
+    pub plane: Plane,
+    /// DDA dynamic ratio k: v0(next) = k v1 (math note §1.1). 1 = dynamic, 0 = static relaxation.
+    pub velocity_carry: f64,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct ContactSettings {
+    /// d0 [m]; `None`: derived from the scene (math note §5).
+    pub threshold: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct SolverSettings {
+    /// Scaled natural residual of the VI (math note §4.3).
+    pub tolerance: f64,
+    /// Inner PC iterations per step, all outer loops together.
+    pub max_iterations: usize,
+}
+
+impl Default for SolverSettings {
+    fn default() -> Self {
+        Self { tolerance: 1e-8, max_iterations: 200_000 }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Material {
+    pub name: String,
+    /// ρ [kg/m³].
+    pub density: f64,
+    /// E [Pa]; required by deformable bodies only.
+    pub young: Option<f64>,
+    /// ν; required by deformable bodies only.
+    pub poisson: Option<f64>,
+}
+
+/// A contact law. `materials: None` is the default for all pairs.
+#[derive(Debug, Clone)]
+pub struct Interface {
+    /// Indices into `Model::materials` (unordered pair), or `None` for the default entry.
+    pub materials: Option<[usize; 2]>,
+    /// Coulomb coefficient μ (from `friction`, or tan of `friction_angle`).
+    pub friction: f64,
+    /// Cohesion stress [Pa]; times the edge-edge overlap length gives a joint's capacity.
+    pub cohesion: f64,
+    /// Tensile strength [Pa]; > 0 cements contacts closed at t = 0.
+    pub tensile_strength: f64,
+    /// Rolling friction length δ [m] for particle contacts.
+    pub rolling: f64,
+}
+
+impl Interface {
+    /// The frictionless, cohesionless law used when a scene gives no default interface.
+    pub const SMOOTH: Interface = Interface {
+        materials: None,
+        friction: 0.0,
+        cohesion: 0.0,
+        tensile_strength: 0.0,
+        rolling: 0.0,
+    };
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum Shape {
+    Disk { center: Vec2, radius: f64 },
+    /// `outer` is R_E and `inner` is R_I (radii, math note §2.2).
+    Ring { center: Vec2, outer: f64, inner: f64 },
+    /// Simple polygon, vertices in counter-clockwise order (normalized by `scene.rs`).
+    Polygon { vertices: Vec<Vec2> },
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodyModel {
+    Rigid,
+    Deformable,
+}
+
+#[derive(Debug, Clone)]
+pub struct BodySpec {
+    pub name: String,
+    pub shape: Shape,
+    pub model: BodyModel,
+    /// Index into `Model::materials`.
+    pub material: usize,
+    /// No degrees of freedom at all (math note §2.4).
+    pub fixed: bool,
+    /// Initial velocity of the centroid [m/s].
+    pub velocity: Vec2,
+    /// Initial angular velocity [rad/s], ccw positive.
+    pub angular_velocity: f64,
+    /// Initial stress (σx, σy, τxy) [Pa], deformable bodies only.
+    pub initial_stress: Option<[f64; 3]>,
+}
+
+/// A point force, optionally scaled by a piecewise-linear factor in time.
+#[derive(Debug, Clone)]
+pub struct Load {
+    pub body: usize,
+    /// Point of application in the initial configuration (moves with the body).
+    pub point: Vec2,
+    pub force: Vec2,
+    /// (time, factor) pairs with strictly increasing times; `None` means factor 1.
+    pub history: Option<Vec<(f64, f64)>>,
+}
+
+impl Load {
+    /// Load factor at time `t`: piecewise linear between the history points, constant
+    /// beyond the first and last ones.
+    pub fn factor(&self, t: f64) -> f64 {
+        let Some(h) = &self.history else { return 1.0 };
+        match h.iter().position(|&(ti, _)| ti > t) {
+            None => h.last().map_or(1.0, |p| p.1),
+            Some(0) => h[0].1,
+            Some(i) => {
+                let (t0, f0) = h[i - 1];
+                let (t1, f1) = h[i];
+                f0 + (f1 - f0) * (t - t0) / (t1 - t0)
+            }
+        }
+    }
+}
+
+#[derive(Debug, Clone)]
+pub struct Monitor {
+    pub name: String,
+    pub body: usize,
+    /// Material point in the initial configuration.
+    pub point: Vec2,
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct OutputSettings {
+    /// Write every N-th step (the last step is always written).
+    pub every: usize,
+}
