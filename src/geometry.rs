@@ -100,7 +100,9 @@ pub fn check_simple_polygon(v: &[Vec2]) -> Result<(), PolygonDefect> {
     if n < 3 {
         return Err(PolygonDefect::TooFewVertices);
     }
-    let scale = v.iter().fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs())).max(1e-300);
+    // tolerances relative to the polygon's own size, not to its distance from the origin
+    let b = Aabb::of_points(v);
+    let scale = (b.max - b.min).norm().max(1e-300);
     for i in 0..n {
         if (v[(i + 1) % n] - v[i]).norm() <= 1e-12 * scale {
             return Err(PolygonDefect::ZeroLengthEdge(i));

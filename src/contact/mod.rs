@@ -4,6 +4,7 @@
 
 pub mod broad;
 pub mod narrow;
+pub mod set;
 
 use crate::geometry::Vec2;
 

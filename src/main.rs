@@ -1,0 +1,5 @@
+//! `pbdda`: thin binary over the library (see `pbdda::cli`).
+
+fn main() -> miette::Result<()> {
+    pbdda::cli::run_from_args()
+}

@@ -1,0 +1,557 @@
+//! Validation of the raw scene into a [`Model`]: ranges, references by name, shapes. Each
+//! failure is a [`Problem`] at the span of the offending value; `super` turns it into a
+//! [`crate::error::SceneError`] with line, column and key path.
+
+use std::collections::HashMap;
+use std::ops::Range;
+
+use toml::Spanned;
+
+use super::Problem;
+use super::raw;
+use crate::geometry::{PolygonDefect, Vec2, check_simple_polygon, signed_area2};
+use crate::model::{
+    BodyModel, BodySpec, ContactSettings, Interface, Load, Material, Model, Monitor,
+    OutputSettings, Physics, Plane, Shape, SolverSettings, TimeSettings,
+};
+
+type Check<T> = Result<T, Problem>;
+
+/// Name -> index into the list it names (materials, bodies).
+type Names<'a> = HashMap<&'a str, usize>;
+
+/// Validates the whole scene, in the contract's table order.
+pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
+    let time = time(&raw.time)?;
+    let physics = physics(&raw.physics)?;
+    let contact = contact(&raw.contact)?;
+    let solver = solver(&raw.solver)?;
+    let (materials, material_names) = materials(&raw.material)?;
+    let interfaces = interfaces(&raw.interface, &material_names)?;
+    let (bodies, body_names) = bodies(&raw.body, &material_names)?;
+    let loads = raw
+        .load
+        .iter()
+        .map(|l| load(l, &body_names))
+        .collect::<Check<_>>()?;
+    if let Some(c) = &raw.connector {
+        return fail(c.span(), "[[connector]] is not supported yet");
+    }
+    let monitors = monitors(&raw.monitor, &body_names)?;
+    let output = output(&raw.output)?;
+    Ok(Model {
+        name: raw.scene.name.clone(),
+        time,
+        physics,
+        contact,
+        solver,
+        materials,
+        interfaces,
+        bodies,
+        loads,
+        monitors,
+        output,
+    })
+}
+
+// ---------------------------------------------------------------- numbers
+
+fn fail<T>(span: Range<usize>, message: impl Into<String>) -> Check<T> {
+    Err(Problem::new(span, message))
+}
+
+/// The value of `v` if it is finite and passes `test`; else "`key` must `requirement`".
+fn real(v: &Spanned<f64>, key: &str, requirement: &str, test: impl Fn(f64) -> bool) -> Check<f64> {
+    let x = *v.get_ref();
+    if !x.is_finite() {
+        return fail(v.span(), format!("{key} must be a finite number (got {x})"));
+    }
+    if !test(x) {
+        return fail(v.span(), format!("{key} must {requirement} (got {x})"));
+    }
+    Ok(x)
+}
+
+fn finite(v: &Spanned<f64>, key: &str) -> Check<f64> {
+    real(v, key, "", |_| true)
+}
+
+fn positive(v: &Spanned<f64>, key: &str) -> Check<f64> {
+    real(v, key, "be positive", |x| x > 0.0)
+}
+
+fn non_negative(v: &Spanned<f64>, key: &str) -> Check<f64> {
+    real(v, key, "not be negative", |x| x >= 0.0)
+}
+
+/// `rule` applied to an optional value.
+fn optional<T, O>(
+    v: &Option<Spanned<T>>,
+    key: &str,
+    rule: impl Fn(&Spanned<T>, &str) -> Check<O>,
+) -> Check<Option<O>> {
+    v.as_ref().map(|v| rule(v, key)).transpose()
+}
+
+/// `rule` applied to an optional value; `default` when it is absent.
+fn or_default<T, O>(
+    v: &Option<Spanned<T>>,
+    key: &str,
+    rule: impl Fn(&Spanned<T>, &str) -> Check<O>,
+    default: O,
+) -> Check<O> {
+    Ok(optional(v, key, rule)?.unwrap_or(default))
+}
+
+/// A whole number ≥ 1 (`steps`, `max_iterations`, `every`).
+fn count(v: &Spanned<i64>, key: &str) -> Check<usize> {
+    let n = *v.get_ref();
+    match usize::try_from(n) {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => fail(v.span(), format!("{key} must be at least 1 (got {n})")),
+    }
+}
+
+/// Exactly `N` finite numbers; `what` names them in the message (`point`, `vertices[3]`).
+fn numbers<const N: usize>(values: &[f64], span: Range<usize>, what: &str) -> Check<[f64; N]> {
+    let Ok(array) = <[f64; N]>::try_from(values) else {
+        let n = values.len();
+        return fail(span, format!("{what} must have {N} numbers (got {n})"));
+    };
+    match array.iter().find(|x| !x.is_finite()) {
+        Some(x) => fail(span, format!("{what} must be finite numbers (got {x})")),
+        None => Ok(array),
+    }
+}
+
+fn vec2(v: &Spanned<Vec<f64>>, key: &str) -> Check<Vec2> {
+    let [x, y] = numbers(v.get_ref(), v.span(), key)?;
+    Ok(Vec2::new(x, y))
+}
+
+/// A list of `[a, b]` pairs (`vertices`, `history`).
+fn pairs(v: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<Vec2>> {
+    let each = |(i, p): (usize, &Vec<f64>)| numbers(p, v.span(), &format!("{key}[{i}]"));
+    v.get_ref()
+        .iter()
+        .enumerate()
+        .map(|p| each(p).map(|[a, b]| Vec2::new(a, b)))
+        .collect()
+}
+
+/// One of the listed strings.
+fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, T)]) -> Check<T> {
+    let given = v.get_ref().as_str();
+    if let Some(&(_, t)) = options.iter().find(|(s, _)| *s == given) {
+        return Ok(t);
+    }
+    let names: Vec<String> = options.iter().map(|(s, _)| format!("\"{s}\"")).collect();
+    let names = names.join(", ");
+    fail(
+        v.span(),
+        format!("{key} must be one of {names} (got \"{given}\")"),
+    )
+}
+
+// ---------------------------------------------------------------- names
+
+/// Index of each name; a repeated name is an error at its second occurrence.
+fn unique_names<'a>(
+    names: impl Iterator<Item = &'a Spanned<String>>,
+    what: &str,
+) -> Check<Names<'a>> {
+    let mut map = Names::new();
+    for (i, name) in names.enumerate() {
+        if let Some(first) = map.insert(name.get_ref().as_str(), i) {
+            let n = name.get_ref();
+            let message =
+                format!("duplicate {what} name \"{n}\" (already used by {what}[{first}])");
+            return fail(name.span(), message);
+        }
+    }
+    Ok(map)
+}
+
+fn resolve(names: &Names, name: &Spanned<String>, what: &str) -> Check<usize> {
+    let n = name.get_ref();
+    let message = || format!("unknown {what} \"{n}\"");
+    names
+        .get(n.as_str())
+        .copied()
+        .ok_or_else(|| Problem::new(name.span(), message()))
+}
+
+// ---------------------------------------------------------------- settings
+
+fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
+    let (header, t) = (t.span(), t.get_ref());
+    let step = positive(&t.step, "step")?;
+    let steps = match (&t.steps, &t.end) {
+        (Some(n), None) => count(n, "steps")?,
+        (None, Some(end)) => steps_until(positive(end, "end")?, step, end.span())?,
+        (Some(_), Some(end)) => fail(end.span(), "give either `steps` or `end`, not both")?,
+        (None, None) => {
+            let message = "[time] needs `steps` or `end`";
+            return Err(Problem::missing(header, "steps", message));
+        }
+    };
+    Ok(TimeSettings { step, steps })
+}
+
+/// steps = ceil(end / step - 1e-9): the 1e-9 keeps round-off such as 0.07 / 0.01 =
+/// 7.000000000000001 from adding a step.
+fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
+    let n = (end / step - 1e-9).ceil();
+    if n >= 1.0 {
+        Ok(n as usize) // saturates for absurdly long runs; never panics
+    } else {
+        fail(span, format!("end = {end} is less than one step of {step}"))
+    }
+}
+
+fn physics(p: &raw::Physics) -> Check<Physics> {
+    let plane_options = [("stress", Plane::Stress), ("strain", Plane::Strain)];
+    let plane = |v: &Spanned<String>, key: &str| choice(v, key, &plane_options);
+    let carry = |v: &Spanned<f64>, key: &str| {
+        real(v, key, "be between 0 and 1", |k| (0.0..=1.0).contains(&k))
+    };
+    Ok(Physics {
+        gravity: or_default(&p.gravity, "gravity", vec2, Vec2::zeros())?,
+        plane: or_default(&p.plane, "plane", plane, Plane::Stress)?,
+        velocity_carry: or_default(&p.velocity_carry, "velocity_carry", carry, 1.0)?,
+    })
+}
+
+fn contact(c: &raw::Contact) -> Check<ContactSettings> {
+    Ok(ContactSettings {
+        threshold: optional(&c.threshold, "threshold", positive)?,
+    })
+}
+
+fn solver(s: &raw::Solver) -> Check<SolverSettings> {
+    let default = SolverSettings::default();
+    Ok(SolverSettings {
+        tolerance: or_default(&s.tolerance, "tolerance", positive, default.tolerance)?,
+        max_iterations: or_default(
+            &s.max_iterations,
+            "max_iterations",
+            count,
+            default.max_iterations,
+        )?,
+    })
+}
+
+fn output(o: &raw::Output) -> Check<OutputSettings> {
+    Ok(OutputSettings {
+        every: or_default(&o.every, "every", count, 1)?,
+    })
+}
+
+// ---------------------------------------------------------------- materials and interfaces
+
+fn materials(raw: &[raw::Material]) -> Check<(Vec<Material>, Names<'_>)> {
+    let names = unique_names(raw.iter().map(|m| &m.name), "material")?;
+    Ok((raw.iter().map(material).collect::<Check<_>>()?, names))
+}
+
+fn material(m: &raw::Material) -> Check<Material> {
+    // ν = 0.5 is incompressible: the plane-strain elasticity matrix is singular
+    let poisson = |v: &Spanned<f64>, key: &str| {
+        real(v, key, "be at least 0 and below 0.5", |nu| {
+            (0.0..0.5).contains(&nu)
+        })
+    };
+    Ok(Material {
+        name: m.name.get_ref().clone(),
+        density: positive(&m.density, "density")?,
+        young: optional(&m.young, "young", positive)?,
+        poisson: optional(&m.poisson, "poisson", poisson)?,
+    })
+}
+
+fn interfaces(raw: &[Spanned<raw::Interface>], materials: &Names) -> Check<Vec<Interface>> {
+    // unordered material pair (None: the default entry) -> index of the entry that defines it
+    let mut seen: HashMap<Option<[usize; 2]>, usize> = HashMap::new();
+    let mut list = Vec::with_capacity(raw.len());
+    for (i, r) in raw.iter().enumerate() {
+        let (header, r) = (r.span(), r.get_ref());
+        let interface = interface(r, materials)?;
+        let pair = interface.materials.map(|[a, b]| [a.min(b), a.max(b)]);
+        if let Some(first) = seen.insert(pair, i) {
+            let (span, what) = match &r.materials {
+                None => (
+                    header,
+                    "a second default interface (one without `materials`)",
+                ),
+                Some(m) => (
+                    m.span(),
+                    "a second interface for the same pair of materials",
+                ),
+            };
+            let message = format!("{what}; interface[{first}] already covers it");
+            return fail(span, message);
+        }
+        list.push(interface);
+    }
+    Ok(list)
+}
+
+fn interface(r: &raw::Interface, materials: &Names) -> Check<Interface> {
+    let pair = |m: &Spanned<_>, _: &str| material_pair(m, materials);
+    Ok(Interface {
+        materials: optional(&r.materials, "materials", pair)?,
+        friction: friction(r)?,
+        cohesion: or_default(&r.cohesion, "cohesion", non_negative, 0.0)?,
+        tensile_strength: or_default(&r.tensile_strength, "tensile_strength", non_negative, 0.0)?,
+        rolling: or_default(&r.rolling, "rolling", non_negative, 0.0)?,
+    })
+}
+
+fn material_pair(m: &Spanned<Vec<Spanned<String>>>, materials: &Names) -> Check<[usize; 2]> {
+    match m.get_ref().as_slice() {
+        [a, b] => Ok([
+            resolve(materials, a, "material")?,
+            resolve(materials, b, "material")?,
+        ]),
+        other => fail(
+            m.span(),
+            format!("materials must name 2 materials (got {})", other.len()),
+        ),
+    }
+}
+
+/// μ from `friction`, or tan of `friction_angle` (degrees, below 90); 0 when neither is given.
+fn friction(r: &raw::Interface) -> Check<f64> {
+    match (&r.friction, &r.friction_angle) {
+        (Some(_), Some(angle)) => fail(
+            angle.span(),
+            "give either `friction` or `friction_angle`, not both",
+        ),
+        (Some(mu), None) => non_negative(mu, "friction"),
+        (None, Some(angle)) => {
+            let below_90 = |a| (0.0..90.0).contains(&a);
+            let degrees = real(
+                angle,
+                "friction_angle",
+                "be at least 0 and below 90",
+                below_90,
+            )?;
+            Ok(degrees.to_radians().tan())
+        }
+        (None, None) => Ok(0.0),
+    }
+}
+
+// ---------------------------------------------------------------- bodies
+
+/// The supported shapes; `"mesh"` is in the contract but not supported yet.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ShapeKind {
+    Disk,
+    Ring,
+    Polygon,
+}
+
+const SHAPES: [(&str, ShapeKind); 3] = [
+    ("disk", ShapeKind::Disk),
+    ("ring", ShapeKind::Ring),
+    ("polygon", ShapeKind::Polygon),
+];
+
+fn bodies<'a>(
+    raw: &'a Spanned<Vec<Spanned<raw::Body>>>,
+    materials: &Names,
+) -> Check<(Vec<BodySpec>, Names<'a>)> {
+    if raw.get_ref().is_empty() {
+        return fail(raw.span(), "a scene needs at least one [[body]]");
+    }
+    let names = unique_names(raw.get_ref().iter().map(|b| &b.get_ref().name), "body")?;
+    let list = raw
+        .get_ref()
+        .iter()
+        .map(|b| body(b, materials))
+        .collect::<Check<_>>()?;
+    Ok((list, names))
+}
+
+fn body(b: &Spanned<raw::Body>, materials: &Names) -> Check<BodySpec> {
+    let (header, b) = (b.span(), b.get_ref());
+    if b.shape.get_ref() == "mesh" {
+        return fail(b.shape.span(), "shape = \"mesh\" is not supported yet");
+    }
+    let kind = choice(&b.shape, "shape", &SHAPES)?;
+    let shape = shape(b, header, kind)?;
+    let model = body_model(b)?;
+    Ok(BodySpec {
+        name: b.name.get_ref().clone(),
+        shape,
+        model,
+        material: resolve(materials, &b.material, "material")?,
+        fixed: b.fixed,
+        velocity: or_default(&b.velocity, "velocity", vec2, Vec2::zeros())?,
+        angular_velocity: or_default(&b.angular_velocity, "angular_velocity", finite, 0.0)?,
+        initial_stress: None,
+    })
+}
+
+/// `model`: only "rigid" is supported yet, so `initial_stress` is always out of place.
+fn body_model(b: &raw::Body) -> Check<BodyModel> {
+    let options = [
+        ("rigid", BodyModel::Rigid),
+        ("deformable", BodyModel::Deformable),
+    ];
+    if let Some(m) = &b.model
+        && choice(m, "model", &options)? == BodyModel::Deformable
+    {
+        return fail(m.span(), "model = \"deformable\" is not supported yet");
+    }
+    if let Some(s) = &b.initial_stress {
+        return fail(s.span(), "initial_stress is only for deformable bodies");
+    }
+    Ok(BodyModel::Rigid)
+}
+
+/// `header` is the span of the body's `[[body]]` line, where a missing key is reported.
+fn shape(b: &raw::Body, header: Range<usize>, kind: ShapeKind) -> Check<Shape> {
+    reject_mesh_keys(b)?;
+    reject_foreign_keys(b, kind)?;
+    match kind {
+        ShapeKind::Disk => Ok(Shape::Disk {
+            center: vec2(need(b, &header, &b.center, "center")?, "center")?,
+            radius: positive(need(b, &header, &b.radius, "radius")?, "radius")?,
+        }),
+        ShapeKind::Ring => ring(b, &header),
+        ShapeKind::Polygon => polygon(need(b, &header, &b.vertices, "vertices")?),
+    }
+}
+
+fn reject_mesh_keys(b: &raw::Body) -> Check<()> {
+    for (key, value) in [("file", &b.file), ("physical", &b.physical)] {
+        if let Some(v) = value {
+            let message = format!("`{key}` is a key of mesh bodies, which are not supported yet");
+            return fail(v.span(), message);
+        }
+    }
+    Ok(())
+}
+
+/// Geometry keys that the body's shape does not use are errors, not silently ignored.
+fn reject_foreign_keys(b: &raw::Body, kind: ShapeKind) -> Check<()> {
+    let used: &[&str] = match kind {
+        ShapeKind::Disk => &["center", "radius"],
+        ShapeKind::Ring => &["center", "radius", "inner_radius"],
+        ShapeKind::Polygon => &["vertices"],
+    };
+    let given = [
+        ("center", b.center.as_ref().map(Spanned::span)),
+        ("radius", b.radius.as_ref().map(Spanned::span)),
+        ("inner_radius", b.inner_radius.as_ref().map(Spanned::span)),
+        ("vertices", b.vertices.as_ref().map(Spanned::span)),
+    ];
+    for (key, span) in given {
+        if let Some(span) = span
+            && !used.contains(&key)
+        {
+            let shape = b.shape.get_ref();
+            return fail(span, format!("`{key}` is not used by a {shape} body"));
+        }
+    }
+    Ok(())
+}
+
+/// A key the shape requires; missing, the error points at the body's `[[body]]` header.
+fn need<'a, T>(
+    b: &raw::Body,
+    header: &Range<usize>,
+    value: &'a Option<Spanned<T>>,
+    key: &str,
+) -> Check<&'a Spanned<T>> {
+    value.as_ref().ok_or_else(|| {
+        let message = format!("a {} body needs `{key}`", b.shape.get_ref());
+        Problem::missing(header.clone(), key, message)
+    })
+}
+
+fn ring(b: &raw::Body, header: &Range<usize>) -> Check<Shape> {
+    let center = vec2(need(b, header, &b.center, "center")?, "center")?;
+    let outer = positive(need(b, header, &b.radius, "radius")?, "radius")?;
+    let inner_value = need(b, header, &b.inner_radius, "inner_radius")?;
+    let inner = positive(inner_value, "inner_radius")?;
+    if inner >= outer {
+        let message = format!("inner_radius must be less than radius (got {inner} >= {outer})");
+        return fail(inner_value.span(), message);
+    }
+    Ok(Shape::Ring {
+        center,
+        outer,
+        inner,
+    })
+}
+
+/// A simple polygon of either orientation, stored counter-clockwise.
+fn polygon(v: &Spanned<Vec<Vec<f64>>>) -> Check<Shape> {
+    let mut vertices = pairs(v, "vertices")?;
+    if let Err(defect) = check_simple_polygon(&vertices) {
+        return fail(v.span(), defect_message(&defect, vertices.len()));
+    }
+    if signed_area2(&vertices) < 0.0 {
+        vertices.reverse();
+    }
+    Ok(Shape::Polygon { vertices })
+}
+
+fn defect_message(defect: &PolygonDefect, n: usize) -> String {
+    let edge = |i: usize| format!("vertices[{i}]-vertices[{}]", (i + 1) % n);
+    match defect {
+        PolygonDefect::TooFewVertices => format!("a polygon needs at least 3 vertices (got {n})"),
+        PolygonDefect::ZeroLengthEdge(i) => format!("zero-length edge {}", edge(*i)),
+        PolygonDefect::SelfIntersection(i, j) => {
+            format!(
+                "the polygon intersects itself: edge {} meets edge {}",
+                edge(*i),
+                edge(*j)
+            )
+        }
+        PolygonDefect::ZeroArea => "the polygon has zero area".to_owned(),
+    }
+}
+
+// ---------------------------------------------------------------- loads and monitors
+
+fn load(l: &raw::Load, bodies: &Names) -> Check<Load> {
+    Ok(Load {
+        body: resolve(bodies, &l.body, "body")?,
+        point: vec2(&l.point, "point")?,
+        force: vec2(&l.force, "force")?,
+        history: optional(&l.history, "history", history)?,
+    })
+}
+
+/// (time, factor) pairs, at least one, times strictly increasing.
+fn history(h: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<(f64, f64)>> {
+    let points = pairs(h, key)?;
+    if points.is_empty() {
+        return fail(h.span(), "history needs at least one [time, factor] pair");
+    }
+    if let Some(i) = points.windows(2).position(|w| w[1].x <= w[0].x) {
+        let (t0, t1) = (points[i].x, points[i + 1].x);
+        let message = format!(
+            "history times must increase strictly (history[{}] has time {t1} after {t0})",
+            i + 1
+        );
+        return fail(h.span(), message);
+    }
+    Ok(points.iter().map(|p| (p.x, p.y)).collect())
+}
+
+fn monitors(raw: &[raw::Monitor], bodies: &Names) -> Check<Vec<Monitor>> {
+    unique_names(raw.iter().map(|m| &m.name), "monitor")?;
+    let monitor = |m: &raw::Monitor| {
+        Ok(Monitor {
+            name: m.name.get_ref().clone(),
+            body: resolve(bodies, &m.body, "body")?,
+            point: vec2(&m.point, "point")?,
+        })
+    };
+    raw.iter().map(monitor).collect()
+}

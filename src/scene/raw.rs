@@ -1,0 +1,149 @@
+//! The scene file as serde reads it: one struct per TOML table of the scene-format contract
+//! (version 1), field names exactly the contract's keys. Unknown keys are rejected here; values
+//! keep their byte spans so that `check` can point at them. Nothing is validated yet.
+//!
+//! Vectors are read as `Vec<f64>` rather than `[f64; 2]`, because toml accepts a longer array
+//! for a fixed-size one and silently drops the rest; `check` tests the length.
+
+use serde::Deserialize;
+use serde::de::IgnoredAny;
+use toml::Spanned;
+
+/// The whole document.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Scene {
+    pub scene: SceneInfo,
+    pub time: Spanned<Time>,
+    #[serde(default)]
+    pub physics: Physics,
+    #[serde(default)]
+    pub contact: Contact,
+    #[serde(default)]
+    pub solver: Solver,
+    #[serde(default)]
+    pub material: Vec<Material>,
+    #[serde(default)]
+    pub interface: Vec<Spanned<Interface>>,
+    pub body: Spanned<Vec<Spanned<Body>>>,
+    #[serde(default)]
+    pub load: Vec<Load>,
+    /// In the contract but not supported yet: read only to be rejected.
+    pub connector: Option<Spanned<IgnoredAny>>,
+    #[serde(default)]
+    pub monitor: Vec<Monitor>,
+    #[serde(default)]
+    pub output: Output,
+}
+
+/// `[scene]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct SceneInfo {
+    pub name: String,
+}
+
+/// `[time]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Time {
+    pub step: Spanned<f64>,
+    pub steps: Option<Spanned<i64>>,
+    pub end: Option<Spanned<f64>>,
+}
+
+/// `[physics]`
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Physics {
+    pub gravity: Option<Spanned<Vec<f64>>>,
+    pub plane: Option<Spanned<String>>,
+    pub velocity_carry: Option<Spanned<f64>>,
+}
+
+/// `[contact]`
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Contact {
+    pub threshold: Option<Spanned<f64>>,
+}
+
+/// `[solver]`
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Solver {
+    pub tolerance: Option<Spanned<f64>>,
+    pub max_iterations: Option<Spanned<i64>>,
+}
+
+/// `[[material]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Material {
+    pub name: Spanned<String>,
+    pub density: Spanned<f64>,
+    pub young: Option<Spanned<f64>>,
+    pub poisson: Option<Spanned<f64>>,
+}
+
+/// `[[interface]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Interface {
+    pub materials: Option<Spanned<Vec<Spanned<String>>>>,
+    pub friction: Option<Spanned<f64>>,
+    pub friction_angle: Option<Spanned<f64>>,
+    pub cohesion: Option<Spanned<f64>>,
+    pub tensile_strength: Option<Spanned<f64>>,
+    pub rolling: Option<Spanned<f64>>,
+}
+
+/// `[[body]]`: one struct for every shape; `check` rejects keys the shape does not use.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Body {
+    pub name: Spanned<String>,
+    pub shape: Spanned<String>,
+    pub center: Option<Spanned<Vec<f64>>>,
+    pub radius: Option<Spanned<f64>>,
+    pub inner_radius: Option<Spanned<f64>>,
+    pub vertices: Option<Spanned<Vec<Vec<f64>>>>,
+    /// Mesh key, not supported yet: read only to be rejected.
+    pub file: Option<Spanned<IgnoredAny>>,
+    /// Mesh key, not supported yet: read only to be rejected.
+    pub physical: Option<Spanned<IgnoredAny>>,
+    pub model: Option<Spanned<String>>,
+    pub material: Spanned<String>,
+    #[serde(default)]
+    pub fixed: bool,
+    pub velocity: Option<Spanned<Vec<f64>>>,
+    pub angular_velocity: Option<Spanned<f64>>,
+    /// Deformable bodies only, which are not supported yet: read only to be rejected.
+    pub initial_stress: Option<Spanned<IgnoredAny>>,
+}
+
+/// `[[load]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Load {
+    pub body: Spanned<String>,
+    pub point: Spanned<Vec<f64>>,
+    pub force: Spanned<Vec<f64>>,
+    pub history: Option<Spanned<Vec<Vec<f64>>>>,
+}
+
+/// `[[monitor]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Monitor {
+    pub name: Spanned<String>,
+    pub body: Spanned<String>,
+    pub point: Spanned<Vec<f64>>,
+}
+
+/// `[output]`
+#[derive(Deserialize, Default)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Output {
+    pub every: Option<Spanned<i64>>,
+}
