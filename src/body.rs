@@ -1,12 +1,15 @@
-//! Bodies: kinds, DOF layouts, the shape matrix T(x), mass, and the post-adjusted geometry
-//! update. Part 1 of the engine: rigid bodies (3 DOF: u0, v0, θ) and fixed bodies (no DOF).
+//! Bodies: kinds, DOF layouts, the shape matrix T(x), mass, elastic stiffness, loads and the
+//! post-adjusted geometry update (paper eqs. 3–7, 16–18; math note §2).
+//!
+//! DOF layouts (math note §0): rigid `(u0, v0, θ)`; deformable particle `(u0, v0, θ, ε)`;
+//! deformable polygon `(u0, v0, θ, εx, εy, γxy)`; a fixed body has none.
 
 use crate::contact::BodyShape;
-use crate::geometry::{Vec2, cross, perp, polygon_moments};
-use crate::model::{BodySpec, Shape};
-use nalgebra::{SMatrix, SVector};
+use crate::geometry::{Vec2, cross, polygon_moments};
+use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
-/// Largest DOF count of any body kind (deformable polygon: u0, v0, θ, εx, εy, γxy).
+/// Largest DOF count of any body kind (deformable polygon).
 pub const MAX_DOF: usize = 6;
 /// A per-body DOF vector, padded with zeros beyond the body's DOF count.
 pub type Dofs = SVector<f64, MAX_DOF>;
@@ -23,6 +26,15 @@ pub enum Outline {
     Polygon { vertices: Vec<Vec2>, convex: Vec<bool> },
 }
 
+/// Area and central second moments of the current outline (math note §2.1).
+#[derive(Debug, Clone, Copy)]
+struct Moments {
+    area: f64,
+    sxx: f64,
+    syy: f64,
+    sxy: f64,
+}
+
 /// One body: its constant properties and its state at the start of the current step.
 #[derive(Debug, Clone)]
 pub struct Body {
@@ -30,119 +42,218 @@ pub struct Body {
     pub material: usize,
     /// No degrees of freedom (math note §2.4: the exact limit of the papers' huge density).
     pub fixed: bool,
+    pub deformable: bool,
     pub outline: Outline,
     /// Current centroid.
     pub centroid: Vec2,
     /// Accumulated rotation [rad], ccw positive.
     pub rotation: f64,
-    /// m = ρ A [kg/m].
+    /// m = ρ A [kg/m], conserved while the body deforms.
     pub mass: f64,
-    /// J = ρ ∫ r² dA about the centroid [kg m²/m].
-    pub inertia: f64,
     /// Largest distance from the centroid to the outline (for motion bounds).
     pub reach: f64,
-    /// Velocity at the start of the step, per DOF (v0 in math note §1).
+    /// Velocity per DOF: the initial velocity, then v1 of the last step (math note eq. 1.1).
     pub velocity: Dofs,
+    /// Accumulated strain (εx, εy, γxy), engineering shear; zero for rigid bodies.
+    pub strain: Vector3<f64>,
+    /// Accumulated stress (σx, σy, τxy) [Pa], tension positive; zero for rigid bodies.
+    pub stress: Vector3<f64>,
+    /// Constitutive matrix D (math note §2.3); zero for rigid bodies.
+    elastic: Matrix3<f64>,
+    moments: Moments,
 }
 
 impl Body {
     /// Builds a body in its initial configuration from its validated spec.
-    pub fn new(spec: &BodySpec, density: f64) -> Body {
-        let (outline, centroid, area, polar) = match &spec.shape {
-            Shape::Disk { center, radius } => {
-                let r = *radius;
-                let area = std::f64::consts::PI * r * r;
-                (Outline::Disk { radius: r }, *center, area, 0.5 * area * r * r)
-            }
-            Shape::Ring { center, outer, inner } => (
-                Outline::Ring { outer: *outer, inner: *inner },
-                *center,
-                std::f64::consts::PI * (outer * outer - inner * inner),
-                0.5 * std::f64::consts::PI * (outer.powi(4) - inner.powi(4)),
-            ),
+    pub fn new(spec: &BodySpec, material: &Material, plane: Plane) -> Body {
+        let (outline, centroid) = match &spec.shape {
+            Shape::Disk { center, radius } => (Outline::Disk { radius: *radius }, *center),
+            Shape::Ring { center, outer, inner } => (Outline::Ring { outer: *outer, inner: *inner }, *center),
             Shape::Polygon { vertices } => {
-                let m = polygon_moments(vertices);
-                let convex = convex_flags(vertices);
-                let outline = Outline::Polygon { vertices: vertices.clone(), convex };
-                (outline, m.centroid, m.area, m.sxx + m.syy)
+                let outline = Outline::Polygon { vertices: vertices.clone(), convex: convex_flags(vertices) };
+                (outline, polygon_moments(vertices).centroid)
             }
         };
-        // math note §2.2: rigid M = ρ diag(S, S, Sxx + Syy), disk/ring J = ρ π (RE⁴ − RI⁴)/2;
-        // `polar` is the polar second moment of area ∫ r² dA about the centroid.
-        let inertia = density * polar;
-        let mut velocity = Dofs::zeros();
-        velocity[0] = spec.velocity.x;
-        velocity[1] = spec.velocity.y;
-        velocity[2] = spec.angular_velocity;
+        let deformable = spec.model == BodyModel::Deformable && !spec.fixed;
+        let elastic = match (deformable, material.young, material.poisson) {
+            (true, Some(e), Some(nu)) => constitutive(e, nu, plane),
+            _ => Matrix3::zeros(),
+        };
         let mut body = Body {
             name: spec.name.clone(),
             material: spec.material,
             fixed: spec.fixed,
+            deformable,
             outline,
             centroid,
             rotation: 0.0,
-            mass: density * area,
-            inertia,
+            mass: 0.0,
             reach: 0.0,
-            velocity: if spec.fixed { Dofs::zeros() } else { velocity },
+            velocity: Dofs::zeros(),
+            strain: Vector3::zeros(),
+            stress: Vector3::from(spec.initial_stress.unwrap_or([0.0; 3])),
+            elastic,
+            moments: Moments { area: 0.0, sxx: 0.0, syy: 0.0, sxy: 0.0 },
         };
-        body.reach = body.compute_reach();
+        body.refresh_geometry();
+        body.mass = material.density * body.moments.area;
+        if !spec.fixed {
+            body.velocity[0] = spec.velocity.x;
+            body.velocity[1] = spec.velocity.y;
+            body.velocity[2] = spec.angular_velocity;
+        }
+        if body.deformable && body.is_particle() {
+            // a particle carries an isotropic stress σ0 (math note §2.4)
+            let s0 = 0.5 * (body.stress[0] + body.stress[1]);
+            body.stress = Vector3::new(s0, s0, 0.0);
+        }
         body
     }
 
-    fn compute_reach(&self) -> f64 {
-        match &self.outline {
+    /// Recomputes the moments and reach of the current outline.
+    fn refresh_geometry(&mut self) {
+        use std::f64::consts::PI;
+        self.moments = match &self.outline {
+            Outline::Disk { radius: r } => {
+                let j = PI * r.powi(4) / 4.0;
+                Moments { area: PI * r * r, sxx: j, syy: j, sxy: 0.0 }
+            }
+            Outline::Ring { outer, inner } => {
+                let j = PI * (outer.powi(4) - inner.powi(4)) / 4.0;
+                Moments { area: PI * (outer * outer - inner * inner), sxx: j, syy: j, sxy: 0.0 }
+            }
+            Outline::Polygon { vertices, .. } => {
+                let m = polygon_moments(vertices);
+                Moments { area: m.area, sxx: m.sxx, syy: m.syy, sxy: m.sxy }
+            }
+        };
+        self.reach = match &self.outline {
             Outline::Disk { radius } => *radius,
             Outline::Ring { outer, .. } => *outer,
             Outline::Polygon { vertices, .. } => {
                 vertices.iter().map(|v| (v - self.centroid).norm()).fold(0.0, f64::max)
             }
-        }
+        };
     }
 
-    /// Number of degrees of freedom (0 for fixed bodies).
+    /// Number of degrees of freedom.
     pub fn ndof(&self) -> usize {
-        if self.fixed { 0 } else { 3 }
+        match (self.fixed, self.deformable, self.is_particle()) {
+            (true, _, _) => 0,
+            (false, false, _) => 3,
+            (false, true, true) => 4,
+            (false, true, false) => 6,
+        }
     }
 
     pub fn is_particle(&self) -> bool {
         !matches!(self.outline, Outline::Polygon { .. })
     }
 
+    /// Current area S.
+    pub fn area(&self) -> f64 {
+        self.moments.area
+    }
+
+    /// Moment of inertia J = ρ ∫ r² dA about the centroid.
+    pub fn inertia(&self) -> f64 {
+        self.density() * (self.moments.sxx + self.moments.syy)
+    }
+
+    /// Current density: mass over current area (mass is conserved as the body deforms).
+    fn density(&self) -> f64 {
+        self.mass / self.moments.area
+    }
+
     /// Consistent mass matrix M = ρ ∫ Tᵀ T dA about the centroid (math note §2.2).
     pub fn mass_matrix(&self) -> BodyMatrix {
         let mut m = BodyMatrix::zeros();
-        if !self.fixed {
-            m[(0, 0)] = self.mass;
-            m[(1, 1)] = self.mass;
-            m[(2, 2)] = self.inertia;
+        let n = self.ndof();
+        if n == 0 {
+            return m;
+        }
+        let Moments { sxx, syy, sxy, .. } = self.moments;
+        let rho = self.density();
+        m[(0, 0)] = self.mass;
+        m[(1, 1)] = self.mass;
+        m[(2, 2)] = rho * (sxx + syy);
+        if n == 4 {
+            m[(3, 3)] = rho * (sxx + syy);
+        } else if n == 6 {
+            let entries = [
+                (2, 3, -sxy),
+                (2, 4, sxy),
+                (2, 5, (sxx - syy) / 2.0),
+                (3, 3, sxx),
+                (3, 5, sxy / 2.0),
+                (4, 4, syy),
+                (4, 5, sxy / 2.0),
+                (5, 5, (sxx + syy) / 4.0),
+            ];
+            for (i, j, v) in entries {
+                m[(i, j)] = rho * v;
+                m[(j, i)] = rho * v;
+            }
         }
         m
     }
 
-    /// Elastic stiffness K_e (zero for rigid bodies; math note §2.3).
-    pub fn elastic_stiffness(&self) -> BodyMatrix {
-        BodyMatrix::zeros()
+    /// The strain map B: strain (εx, εy, γxy) = B d (math note §2.3; a particle's ε acts on
+    /// εx and εy alike).
+    fn strain_map(&self) -> SMatrix<f64, 3, MAX_DOF> {
+        let mut b = SMatrix::<f64, 3, MAX_DOF>::zeros();
+        match self.ndof() {
+            4 => {
+                b[(0, 3)] = 1.0;
+                b[(1, 3)] = 1.0;
+            }
+            6 => {
+                b[(0, 3)] = 1.0;
+                b[(1, 4)] = 1.0;
+                b[(2, 5)] = 1.0;
+            }
+            _ => {}
+        }
+        b
     }
 
-    /// Row `dirᵀ T(x)` of the shape matrix (paper eq. 3): the generalized direction of a
-    /// unit force `dir` applied at `x`. For a rigid body `[dir_x, dir_y, r × dir]`.
+    /// Elastic stiffness K_e = S Bᵀ D B (math note §2.3; for a particle K_44 =
+    /// 2πE(RE² − RI²)/(1 − ν) in plane stress). Zero for rigid bodies.
+    pub fn elastic_stiffness(&self) -> BodyMatrix {
+        let b = self.strain_map();
+        b.transpose() * self.elastic * b * self.moments.area
+    }
+
+    /// Initial-stress load f_σ = −S Bᵀ σ (math note §2.4; for a particle −2Aσ0).
+    pub fn stress_load(&self) -> Dofs {
+        -(self.strain_map().transpose() * self.stress) * self.moments.area
+    }
+
+    /// Row `dirᵀ T(x)` of the shape matrix (paper eqs. 3, 5, 7): the generalized direction
+    /// of a unit force `dir` applied at `x`.
     pub fn shape_row(&self, x: Vec2, dir: Vec2) -> Dofs {
         let mut row = Dofs::zeros();
-        if !self.fixed {
-            row[0] = dir.x;
-            row[1] = dir.y;
-            row[2] = cross(x - self.centroid, dir);
+        let n = self.ndof();
+        if n == 0 {
+            return row;
+        }
+        let r = x - self.centroid;
+        row[0] = dir.x;
+        row[1] = dir.y;
+        row[2] = cross(r, dir);
+        if n == 4 {
+            row[3] = r.dot(&dir);
+        } else if n == 6 {
+            row[3] = r.x * dir.x;
+            row[4] = r.y * dir.y;
+            row[5] = 0.5 * (r.y * dir.x + r.x * dir.y);
         }
         row
     }
 
-    /// Displacement `T(x) d` of the material point at `x` (linearized, paper eq. 3).
+    /// Displacement `T(x) d` of the material point at `x` (linearized).
     pub fn displacement(&self, x: Vec2, d: &Dofs) -> Vec2 {
-        if self.fixed {
-            return Vec2::zeros();
-        }
-        Vec2::new(d[0], d[1]) + perp(x - self.centroid) * d[2]
+        Vec2::new(self.shape_row(x, Vec2::x()).dot(d), self.shape_row(x, Vec2::y()).dot(d))
     }
 
     /// Velocity of the material point at `x` (same map as [`Self::displacement`]).
@@ -152,33 +263,54 @@ impl Body {
 
     /// Upper bound of |T(x) d| over the body.
     pub fn max_displacement(&self, d: &Dofs) -> f64 {
-        if self.fixed { 0.0 } else { Vec2::new(d[0], d[1]).norm() + d[2].abs() * self.reach }
+        if self.fixed {
+            return 0.0;
+        }
+        let strain = self.strain_map() * d;
+        Vec2::new(d[0], d[1]).norm() + (d[2].abs() + strain.abs().sum()) * self.reach
     }
 
-    /// Moves a material point by the increment `d` with the post-adjusted rigid rotation of
-    /// paper eq. 16: x' = c + (u0, v0) + R(θ)(x − c), exact for any θ.
+    /// Where the material point `x` goes under the increment `d`, with the post-adjusted
+    /// rotation of paper eqs. 16–18: x' = c + (u0, v0) + R(θ)(x − c) + E (x − c), with
+    /// E = [[εx, γxy/2], [γxy/2, εy]] (E = ε I for a particle).
     pub fn moved_point(&self, x: Vec2, d: &Dofs) -> Vec2 {
         if self.fixed {
             return x;
         }
         let (s, c) = d[2].sin_cos();
         let r = x - self.centroid;
-        self.centroid + Vec2::new(d[0], d[1]) + Vec2::new(c * r.x - s * r.y, s * r.x + c * r.y)
+        let e = self.strain_map() * d;
+        let rotated = Vec2::new(c * r.x - s * r.y, s * r.x + c * r.y);
+        let strained = Vec2::new(e[0] * r.x + 0.5 * e[2] * r.y, 0.5 * e[2] * r.x + e[1] * r.y);
+        self.centroid + Vec2::new(d[0], d[1]) + rotated + strained
     }
 
-    /// Applies the increment `d` (the post-adjusted `dbar` of math note §1.3) to the geometry.
+    /// Applies the increment `d` (the post-adjusted `dbar` of math note §1.3) to the geometry,
+    /// and for a deformable body accumulates strain and stress, σ += D Δε (math note §2.4).
     pub fn apply_increment(&mut self, d: &Dofs) {
         if self.fixed {
             return;
         }
-        if let Outline::Polygon { vertices, .. } = &self.outline {
-            let moved: Vec<Vec2> = vertices.iter().map(|&v| self.moved_point(v, d)).collect();
-            if let Outline::Polygon { vertices, .. } = &mut self.outline {
-                *vertices = moved;
+        let de = self.strain_map() * d;
+        let moved: Option<Vec<Vec2>> = match &self.outline {
+            Outline::Polygon { vertices, .. } => Some(vertices.iter().map(|&v| self.moved_point(v, d)).collect()),
+            _ => None,
+        };
+        match &mut self.outline {
+            Outline::Polygon { vertices, .. } => *vertices = moved.unwrap_or_default(),
+            Outline::Disk { radius } => *radius *= 1.0 + de[0],
+            Outline::Ring { outer, inner } => {
+                *outer *= 1.0 + de[0];
+                *inner *= 1.0 + de[0];
             }
         }
         self.centroid += Vec2::new(d[0], d[1]);
         self.rotation += d[2];
+        if self.deformable {
+            self.strain += de;
+            self.stress += self.elastic * de;
+            self.refresh_geometry();
+        }
     }
 
     /// The geometry contact detection sees.
@@ -194,7 +326,7 @@ impl Body {
         }
     }
 
-    /// Smallest feature size: particle radius (inner radius of a ring) or shortest edge.
+    /// Smallest feature size: particle radius (ring wall or hole) or shortest edge.
     pub fn feature_size(&self) -> f64 {
         match &self.outline {
             Outline::Disk { radius } => *radius,
@@ -211,8 +343,130 @@ impl Body {
     }
 }
 
+/// Plane-stress or plane-strain constitutive matrix, engineering shear (math note §2.3).
+pub fn constitutive(e: f64, nu: f64, plane: Plane) -> Matrix3<f64> {
+    match plane {
+        Plane::Stress => {
+            let k = e / (1.0 - nu * nu);
+            Matrix3::new(k, k * nu, 0.0, k * nu, k, 0.0, 0.0, 0.0, k * (1.0 - nu) / 2.0)
+        }
+        Plane::Strain => {
+            let k = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
+            Matrix3::new(
+                k * (1.0 - nu),
+                k * nu,
+                0.0,
+                k * nu,
+                k * (1.0 - nu),
+                0.0,
+                0.0,
+                0.0,
+                k * (1.0 - 2.0 * nu) / 2.0,
+            )
+        }
+    }
+}
+
 /// Convex flags of a counter-clockwise polygon's vertices (interior angle below 180°).
 pub fn convex_flags(v: &[Vec2]) -> Vec<bool> {
     let n = v.len();
     (0..n).map(|i| cross(v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]) > 0.0).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(shape: Shape, model: BodyModel) -> BodySpec {
+        BodySpec {
+            name: "b".into(),
+            shape,
+            model,
+            material: 0,
+            fixed: false,
+            velocity: Vec2::zeros(),
+            angular_velocity: 0.0,
+            initial_stress: None,
+        }
+    }
+
+    fn material() -> Material {
+        Material { name: "m".into(), density: 2.5, young: Some(3.0e9), poisson: Some(0.3) }
+    }
+
+    /// ρ ∫ Tᵀ T dA over a triangle fan, with the 3-point (edge-midpoint) rule, exact for the
+    /// quadratic integrand: the reference for the closed-form mass matrices of math note §2.2.
+    fn quadrature_mass(body: &Body, vertices: &[Vec2]) -> BodyMatrix {
+        let rho = 2.5;
+        let mut m = BodyMatrix::zeros();
+        let o = vertices[0];
+        for i in 1..vertices.len() - 1 {
+            let (a, b) = (vertices[i], vertices[i + 1]);
+            let area = 0.5 * cross(a - o, b - o);
+            for x in [(o + a) / 2.0, (a + b) / 2.0, (b + o) / 2.0] {
+                let tx = body.shape_row(x, Vec2::x());
+                let ty = body.shape_row(x, Vec2::y());
+                m += (tx * tx.transpose() + ty * ty.transpose()) * (rho * area / 3.0);
+            }
+        }
+        m
+    }
+
+    fn l_shape() -> Vec<Vec2> {
+        [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect()
+    }
+
+    /// Closed-form mass matrices (rigid 3×3, deformable 6×6) against exact quadrature of
+    /// ρ ∫ Tᵀ T dA on a concave L-shape; tolerance: round-off of O(10) terms.
+    #[test]
+    fn polygon_mass_matrices_match_quadrature() {
+        for model in [BodyModel::Rigid, BodyModel::Deformable] {
+            let body = Body::new(&spec(Shape::Polygon { vertices: l_shape() }, model), &material(), Plane::Stress);
+            let exact = quadrature_mass(&body, &l_shape());
+            assert!((body.mass_matrix() - exact).amax() < 1e-12, "{model:?}: {}", body.mass_matrix() - exact);
+        }
+    }
+
+    /// Disk and ring: M = ρ diag(A, A, J(, J)), J = ρπ(RE⁴ − RI⁴)/2 (math note §2.2, eq. A.9).
+    #[test]
+    fn particle_mass_matrices() {
+        use std::f64::consts::PI;
+        let ring = Shape::Ring { center: Vec2::new(1.0, 2.0), outer: 3.0, inner: 1.0 };
+        let body = Body::new(&spec(ring, BodyModel::Deformable), &material(), Plane::Stress);
+        let (a, j) = (PI * 8.0, PI * 80.0 / 2.0);
+        let m = body.mass_matrix();
+        for (i, v) in [a, a, j, j].iter().enumerate() {
+            assert!((m[(i, i)] - 2.5 * v).abs() < 1e-12 * 2.5 * v);
+        }
+        assert_eq!(m.iter().filter(|x| **x != 0.0).count(), 4);
+    }
+
+    /// Math note §2.3: K_44 = 2πE(RE² − RI²)/(1 − ν) in plane stress and
+    /// 2πE(RE² − RI²)/((1 + ν)(1 − 2ν)) in plane strain (the paper's A.4 is half of it).
+    #[test]
+    fn particle_stiffness_is_the_corrected_one() {
+        use std::f64::consts::PI;
+        let (e, nu) = (3.0e9, 0.3);
+        let ring = Shape::Ring { center: Vec2::zeros(), outer: 3.0, inner: 1.0 };
+        let stress = Body::new(&spec(ring.clone(), BodyModel::Deformable), &material(), Plane::Stress);
+        let strain = Body::new(&spec(ring, BodyModel::Deformable), &material(), Plane::Strain);
+        let k_stress = 2.0 * PI * e * 8.0 / (1.0 - nu);
+        let k_strain = 2.0 * PI * e * 8.0 / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        assert!((stress.elastic_stiffness()[(3, 3)] - k_stress).abs() < 1e-12 * k_stress);
+        assert!((strain.elastic_stiffness()[(3, 3)] - k_strain).abs() < 1e-12 * k_strain);
+    }
+
+    /// Post-adjusted update (paper eq. 16): a rigid rotation by θ = π/2 of a square is exact,
+    /// so the vertices keep their distances from the centroid to round-off.
+    #[test]
+    fn rigid_rotation_is_exact() {
+        let sq = vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)];
+        let mut body = Body::new(&spec(Shape::Polygon { vertices: sq }, BodyModel::Rigid), &material(), Plane::Stress);
+        let mut d = Dofs::zeros();
+        d[2] = std::f64::consts::FRAC_PI_2;
+        body.apply_increment(&d);
+        let Outline::Polygon { vertices, .. } = &body.outline else { unreachable!() };
+        assert!((vertices[0] - Vec2::new(1.0, -1.0)).norm() < 1e-15);
+        assert!((body.rotation - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+    }
 }

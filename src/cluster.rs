@@ -24,6 +24,16 @@ impl Flexibility {
         self.dt
     }
 
+    /// Recomputes K⁻¹ of the deformable bodies, whose mass and stiffness follow their
+    /// current geometry; rigid bodies keep their cached K⁻¹.
+    pub fn refresh(&mut self, bodies: &[Body]) {
+        for (k, b) in self.kinv.iter_mut().zip(bodies) {
+            if b.deformable {
+                *k = body_flexibility(b, self.dt);
+            }
+        }
+    }
+
     /// K⁻¹ of body `b` (zero for a fixed body).
     pub fn of(&self, b: usize) -> &BodyMatrix {
         &self.kinv[b]

@@ -137,7 +137,7 @@ impl World {
 
     pub fn with_settings(model: Model, settings: Settings) -> World {
         let bodies: Vec<Body> =
-            model.bodies.iter().map(|s| Body::new(s, model.materials[s.material].density)).collect();
+            model.bodies.iter().map(|s| Body::new(s, &model.materials[s.material], model.physics.plane)).collect();
         let track = |body: usize, p: Vec2| TrackedPoint { body, initial: p, current: p };
         let load_points = model.loads.iter().map(|l| track(l.body, l.point)).collect();
         let monitors = model.monitors.iter().map(|m| track(m.body, m.point)).collect();
@@ -187,6 +187,7 @@ impl World {
             return Err(StepError::NonFinite { step, bodies: bad });
         }
         self.update(&dbar, &dvel, dt);
+        self.flex.refresh(&self.bodies);
         let records = self.contact_records(&contacts, &solved);
         self.remember(&records, &solved.z1);
         self.step_index = step;
@@ -218,7 +219,8 @@ impl World {
             .bodies
             .iter()
             .map(|b| {
-                let mut fb = b.mass_matrix() * self.v0(b) * (2.0 / dt);
+                // f = (2/dt) M v0 + f_σ + body force (math note eq. 1.2, §2.4)
+                let mut fb = b.mass_matrix() * self.v0(b) * (2.0 / dt) + b.stress_load();
                 // body force, centroid reference (math note §2.4)
                 fb[0] += b.mass * g.x;
                 fb[1] += b.mass * g.y;
