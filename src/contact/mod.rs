@@ -2,9 +2,14 @@
 //! function per contact type. Detection knows nothing about the solver: its only output is a
 //! list of [`ContactGeom`].
 
+mod block;
 pub mod broad;
+mod joint;
 pub mod narrow;
+mod particle;
 pub mod set;
+#[cfg(test)]
+mod testkit;
 
 use crate::geometry::Vec2;
 
@@ -98,6 +103,6 @@ pub fn detect(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<Conta
     for (i, j) in pairs {
         narrow::pair_contacts(i, j, &shapes[i], &shapes[j], threshold, &mut out);
     }
-    out.sort_by(|x, y| x.key.cmp(&y.key));
+    out.sort_by_key(|c| c.key);
     out
 }

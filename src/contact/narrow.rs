@@ -1,5 +1,434 @@
-//! Narrow phase (placeholder until implemented).
-use super::{BodyShape, ContactGeom};
-pub fn pair_contacts(_i: usize, _j: usize, _si: &BodyShape, _sj: &BodyShape, _threshold: f64, _out: &mut Vec<ContactGeom>) {
-    todo!()
+//! Narrow phase (math note §5; paper Section 3, Figures 2-5): dispatches a candidate pair to
+//! one function per contact type and holds the pieces they share (body views, edges,
+//! tolerances, the vertex-edge contact geometry).
+//!
+//! - particle-particle and particle-block: `particle.rs`;
+//! - block-block vertex-edge and vertex-vertex, and the dedupe: `block.rs`;
+//! - block-block edge-edge (two adjoint vertex-edge contacts): `joint.rs`.
+
+use super::{BodyShape, ContactGeom, ContactKey, ContactKind, Feature};
+use crate::geometry::{Vec2, cw};
+
+/// Angle below which two edges count as anti-parallel (edge-edge joint, math note §5:
+/// "about 1-3°"), and by which an edge next to a vertex may dip through the other body's
+/// edge line in the vertex-edge cone test. 2°: a rotation of a few tenths of a degree per
+/// step still keeps a resting face a joint, while a block resting on one corner with a
+/// visibly tilted face (> 2°) is not mistaken for a face-to-face contact.
+pub const ANGLE_TOLERANCE_DEG: f64 = 2.0;
+
+/// Dedupe distance as a fraction of the contact threshold (d0 in the paper): two block-block
+/// contacts of the same pair closer than this, with (anti)parallel normals, are one contact;
+/// two candidate joint ends closer than this along the edge are one end.
+pub const MERGE_FRACTION: f64 = 0.01;
+
+/// Two vertex-vertex candidates whose g0 differ by less than this fraction of d0 are a tie.
+pub const TIE_FRACTION: f64 = 1e-6;
+
+/// Finds the contacts between bodies `i` and `j` whose signed separation g0 is below
+/// `threshold` (d0 in the paper, math note §5) and appends them to `out`.
+/// `shape_i` and `shape_j` are the current shapes of bodies `i` and `j`; the order of the two
+/// bodies does not matter.
+pub fn pair_contacts(
+    i: usize,
+    j: usize,
+    shape_i: &BodyShape,
+    shape_j: &BodyShape,
+    threshold: f64,
+    out: &mut Vec<ContactGeom>,
+) {
+    let tol = Tolerances::new(threshold);
+    match (Body::of(i, shape_i), Body::of(j, shape_j)) {
+        (Body::Particle(p), Body::Particle(q)) => {
+            super::particle::particle_particle(&p, &q, &tol, out)
+        }
+        (Body::Particle(p), Body::Polygon(b)) | (Body::Polygon(b), Body::Particle(p)) => {
+            super::particle::particle_block(&p, &b, &tol, out)
+        }
+        (Body::Polygon(a), Body::Polygon(b)) => super::block::block_block(&a, &b, &tol, out),
+    }
+}
+
+/// A body as the narrow phase sees it.
+enum Body<'a> {
+    Particle(Particle),
+    Polygon(Polygon<'a>),
+}
+
+impl<'a> Body<'a> {
+    fn of(body: usize, shape: &'a BodyShape) -> Body<'a> {
+        match *shape {
+            BodyShape::Disk { center, radius } => Body::Particle(Particle {
+                body,
+                center,
+                outer: radius,
+                inner: 0.0,
+            }),
+            BodyShape::Ring {
+                center,
+                outer,
+                inner,
+            } => Body::Particle(Particle {
+                body,
+                center,
+                outer,
+                inner,
+            }),
+            BodyShape::Polygon {
+                ref vertices,
+                ref convex,
+            } => Body::Polygon(Polygon::new(body, vertices, convex)),
+        }
+    }
+}
+
+/// The tolerances of one detection pass, all derived from the contact threshold.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tolerances {
+    /// d0 in the paper: contacts are created for g0 < d0; vertex-edge contacts also need
+    /// g0 > -d0 (penetration allowance).
+    pub threshold: f64,
+    /// cos of [`ANGLE_TOLERANCE_DEG`].
+    pub cos_angle: f64,
+    /// sin of [`ANGLE_TOLERANCE_DEG`].
+    pub sin_angle: f64,
+    /// Dedupe distance, [`MERGE_FRACTION`] × d0.
+    pub merge: f64,
+    /// Tie width for vertex-vertex candidates, [`TIE_FRACTION`] × d0.
+    pub tie: f64,
+}
+
+impl Tolerances {
+    /// Whether a signed separation is below the threshold (false for NaN).
+    pub fn detects(&self, g0: f64) -> bool {
+        g0 < self.threshold
+    }
+
+    pub fn new(threshold: f64) -> Tolerances {
+        let angle = ANGLE_TOLERANCE_DEG.to_radians();
+        Tolerances {
+            threshold,
+            cos_angle: angle.cos(),
+            sin_angle: angle.sin(),
+            merge: MERGE_FRACTION * threshold.max(0.0),
+            tie: TIE_FRACTION * threshold.max(0.0),
+        }
+    }
+}
+
+/// A disk or a ring as detection sees it; a disk has `inner = 0`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Particle {
+    pub body: usize,
+    pub center: Vec2,
+    /// Outer radius (R, or RE of a ring).
+    pub outer: f64,
+    /// Inner radius RI of a ring; 0 for a disk.
+    pub inner: f64,
+}
+
+impl Particle {
+    pub fn is_ring(&self) -> bool {
+        self.inner > 0.0
+    }
+}
+
+/// A polygon (CCW) as detection sees it: vertex k, edge k from vertex k to vertex k+1.
+#[derive(Debug, Clone)]
+pub(crate) struct Polygon<'a> {
+    pub body: usize,
+    pub vertices: &'a [Vec2],
+    /// `convex[k]`: the interior angle at vertex k is below 180°.
+    pub convex: &'a [bool],
+    /// `edges[k]`: edge k, computed once per pair. A zero-length edge has a NaN direction, so
+    /// every test on it fails and it makes no contact.
+    edges: Vec<Edge>,
+}
+
+/// One polygon edge: start, unit direction t, length L, outward unit normal `cw(t)`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Edge {
+    pub start: Vec2,
+    pub t: Vec2,
+    pub len: f64,
+    /// Normal pointing away from the polygon's material (n_out of math note §5).
+    pub n_out: Vec2,
+}
+
+impl Edge {
+    /// Position of the projection of `p` along the edge, from its start.
+    pub fn along(&self, p: Vec2) -> f64 {
+        (p - self.start).dot(&self.t)
+    }
+
+    /// Signed distance of `p` from the edge line, positive on the outer side.
+    pub fn height(&self, p: Vec2) -> f64 {
+        (p - self.start).dot(&self.n_out)
+    }
+}
+
+impl<'a> Polygon<'a> {
+    pub fn new(body: usize, vertices: &'a [Vec2], convex: &'a [bool]) -> Polygon<'a> {
+        let n = vertices.len();
+        let edges = (0..n)
+            .map(|k| {
+                let (start, d) = (vertices[k], vertices[(k + 1) % n] - vertices[k]);
+                let len = d.norm();
+                let t = d / len;
+                Edge {
+                    start,
+                    t,
+                    len,
+                    n_out: cw(t),
+                }
+            })
+            .collect();
+        Polygon {
+            body,
+            vertices,
+            convex,
+            edges,
+        }
+    }
+
+    pub fn vertex_count(&self) -> usize {
+        self.vertices.len()
+    }
+
+    pub fn next(&self, k: usize) -> usize {
+        (k + 1) % self.vertex_count()
+    }
+
+    pub fn prev(&self, k: usize) -> usize {
+        (k + self.vertex_count() - 1) % self.vertex_count()
+    }
+
+    /// Edge k, from vertex k to vertex k+1.
+    pub fn edge(&self, k: usize) -> Edge {
+        self.edges[k]
+    }
+
+    /// Whether the projection of `p` falls inside edge `f`: open at a convex end (beyond it
+    /// lies the end vertex's region), closed at a non-convex end (a notch, where the point
+    /// may touch both edges).
+    pub fn projects_inside(&self, f: usize, p: Vec2) -> bool {
+        let e = self.edge(f);
+        let s = e.along(p);
+        let start_ok = s > 0.0 || (s >= 0.0 && !self.convex[f]);
+        let end_ok = s < e.len || (s <= e.len && !self.convex[self.next(f)]);
+        start_ok && end_ok
+    }
+
+    /// Whether `p` lies on the inner side (to within the tie width, i.e. rounding) of the
+    /// edges next to edge f at its convex ends: with `p` below edge f's line and inside its
+    /// projection range, this says `p` is inside the polygon near edge f. Non-convex ends
+    /// need no test (there the region below edge f is material).
+    pub fn behind_end_edges(&self, f: usize, p: Vec2, tol: &Tolerances) -> bool {
+        let (start, end) = (f, self.next(f));
+        let before = !self.convex[start] || self.edge(self.prev(f)).height(p) <= tol.tie;
+        let after = !self.convex[end] || self.edge(end).height(p) <= tol.tie;
+        before && after
+    }
+
+    /// The cone test of a vertex-edge contact: neither edge incident to vertex k dips through
+    /// a line of outward normal `n_out` by more than the angle tolerance, so vertex k is
+    /// locally the point of this body closest to that line.
+    pub fn cone_clear(&self, k: usize, n_out: Vec2, tol: &Tolerances) -> bool {
+        // unit directions from vertex k along its two edges
+        let (to_prev, to_next) = (-self.edges[self.prev(k)].t, self.edges[k].t);
+        to_prev.dot(&n_out) >= -tol.sin_angle && to_next.dot(&n_out) >= -tol.sin_angle
+    }
+}
+
+/// A contact without a joint.
+pub(crate) fn plain_contact(
+    key: ContactKey,
+    kind: ContactKind,
+    point: Vec2,
+    normal: Vec2,
+    g0: f64,
+) -> ContactGeom {
+    ContactGeom {
+        key,
+        joint: None,
+        joint_length: 0.0,
+        kind,
+        a: key.a as usize,
+        b: key.b as usize,
+        point,
+        normal,
+        g0,
+    }
+}
+
+/// Vertex k of polygon `x` against edge f of polygon `y` (math note §5, B-B vertex-edge):
+/// A = `y` (edge owner), n = inward normal of the edge, g0 = height of the vertex above the
+/// edge line, contact point = midpoint of the vertex and its projection on the line.
+/// Pure geometry: the caller decides whether the contact exists.
+pub(crate) fn vertex_edge_geom(x: &Polygon, k: usize, y: &Polygon, f: usize) -> ContactGeom {
+    let e = y.edge(f);
+    let v = x.vertices[k];
+    let g0 = e.height(v);
+    let key = ContactKey {
+        a: y.body as u32,
+        fa: Feature::Edge(f as u32),
+        b: x.body as u32,
+        fb: Feature::Vertex(k as u32),
+    };
+    plain_contact(key, ContactKind::BB, v - 0.5 * g0 * e.n_out, -e.n_out, g0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::*;
+    use super::super::{ContactKind, Feature::*, JointKey, detect};
+
+    /// Closed forms evaluated in f64 from coordinates of order 10-100: a few ulp.
+    const TOL: f64 = 1e-11;
+
+    /// Math note §7.4 frame: four fixed walls (bodies 0-3: bottom, top, left, right) around the
+    /// inner square [-60,60]², walls touching at the corners; a free 20×20 square (body 4)
+    /// 0.01 from each wall in turn. Each position gives exactly one joint: the square's two
+    /// vertices on the wall's inner edge, A = wall, n = into the wall, g0 = 0.01, points 0.005
+    /// off the wall, joint length 20. The touching walls (both fixed) give nothing.
+    #[test]
+    fn square_near_each_wall_of_a_frame() {
+        let walls = [
+            rect(-70.0, -70.0, 70.0, -60.0),
+            rect(-70.0, 60.0, 70.0, 70.0),
+            rect(-70.0, -60.0, -60.0, 60.0),
+            rect(60.0, -60.0, 70.0, 60.0),
+        ];
+        // (square, wall edge, square vertices, n, the two points, joint key)
+        type Case = (
+            [f64; 4],
+            u32,
+            [u32; 2],
+            (f64, f64),
+            [(f64, f64); 2],
+            JointKey,
+        );
+        let jk = |body_lo, edge_lo, edge_hi| JointKey {
+            body_lo,
+            edge_lo,
+            body_hi: 4,
+            edge_hi,
+        };
+        let cases: [Case; 4] = [
+            (
+                [-10., -59.99, 10., -39.99],
+                2,
+                [0, 1],
+                (0., -1.),
+                [(-10., -59.995), (10., -59.995)],
+                jk(0, 2, 0),
+            ),
+            (
+                [-10., 39.99, 10., 59.99],
+                0,
+                [2, 3],
+                (0., 1.),
+                [(10., 59.995), (-10., 59.995)],
+                jk(1, 0, 2),
+            ),
+            (
+                [-59.99, -10., -39.99, 10.],
+                1,
+                [0, 3],
+                (-1., 0.),
+                [(-59.995, -10.), (-59.995, 10.)],
+                jk(2, 1, 3),
+            ),
+            (
+                [39.99, -10., 59.99, 10.],
+                3,
+                [1, 2],
+                (1., 0.),
+                [(59.995, -10.), (59.995, 10.)],
+                jk(3, 3, 1),
+            ),
+        ];
+        for (wall, (sq, edge, verts, n, points, joint)) in cases.into_iter().enumerate() {
+            let mut shapes = walls.to_vec();
+            shapes.push(rect(sq[0], sq[1], sq[2], sq[3]));
+            let c = detect(&shapes, &[true, true, true, true, false], 0.1);
+            assert_eq!(c.len(), 2, "wall {wall}: {c:?}");
+            for k in 0..2 {
+                let kk = key(wall as u32, Edge(edge), 4, Vertex(verts[k]));
+                check(&c[k], kk, ContactKind::BB, n, 0.01, points[k], TOL);
+                assert_eq!(c[k].joint, Some(joint));
+                assert!((c[k].joint_length - 20.0).abs() < TOL);
+            }
+        }
+    }
+
+    /// Math note §7.1 heap: floor [-50,50]×[-10,0] (body 0, fixed), disks R = 10 at (0,10),
+    /// (0,30), (0,50): disk 1 on the floor's top edge (A = disk, n = +y, point (0,0)); P-P at
+    /// y = 20 and 40 with A = the lower (smaller-index) disk, n = e = (P_i - P_j)/|..| = -y.
+    /// All g0 = 0.
+    #[test]
+    fn heap_of_three_disks() {
+        let shapes = [
+            rect(-50.0, -10.0, 50.0, 0.0),
+            disk(0.0, 10.0, 10.0),
+            disk(0.0, 30.0, 10.0),
+            disk(0.0, 50.0, 10.0),
+        ];
+        let c = detect(&shapes, &[true, false, false, false], 0.1);
+        assert_eq!(c.len(), 3, "{c:?}");
+        check(
+            &c[0],
+            key(1, Outer, 0, Edge(2)),
+            ContactKind::PB,
+            (0.0, 1.0),
+            0.0,
+            (0.0, 0.0),
+            TOL,
+        );
+        check(
+            &c[1],
+            key(1, Outer, 2, Outer),
+            ContactKind::PP,
+            (0.0, -1.0),
+            0.0,
+            (0.0, 20.0),
+            TOL,
+        );
+        check(
+            &c[2],
+            key(2, Outer, 3, Outer),
+            ContactKind::PP,
+            (0.0, -1.0),
+            0.0,
+            (0.0, 40.0),
+            TOL,
+        );
+    }
+
+    /// Pairs of fixed bodies never produce contacts (math note §5), however close: touching
+    /// blocks, a disk on a block, a disk in a ring.
+    #[test]
+    fn fixed_pairs_give_nothing() {
+        let shapes = [
+            rect(0.0, 0.0, 1.0, 1.0),
+            rect(1.0, 0.0, 2.0, 1.0),
+            disk(0.5, 1.5, 0.5),
+            ring(10.0, 0.0, 3.0, 2.0),
+            disk(10.0, 1.0, 1.0),
+        ];
+        assert!(detect(&shapes, &[true; 5], 0.1).is_empty());
+    }
+
+    /// A ring far from everything (100 away) has no contact; the rest of the scene still has
+    /// its own (the disk resting on the block: one contact).
+    #[test]
+    fn far_ring_gives_nothing() {
+        let shapes = [
+            rect(0.0, 0.0, 1.0, 1.0),
+            disk(0.5, 1.5, 0.5),
+            ring(100.0, 100.0, 3.0, 1.0),
+        ];
+        let c = detect(&shapes, &[true, false, false], 0.1);
+        assert_eq!(c.len(), 1);
+        assert!(c.iter().all(|k| k.a != 2 && k.b != 2));
+    }
 }

@@ -1,0 +1,427 @@
+//! Block-block contacts (math note §5; paper Section 3, Figures 4-5): edge-edge joints first
+//! ([`super::joint`]), then single vertex-edge contacts, then vertex-vertex contacts, then a
+//! dedupe that keeps one contact where candidates coincide.
+//!
+//! Only convex vertices make contacts: a reflex (or straight, 180°) vertex is never the point
+//! of its body nearest to another body. A convex vertex in a notch of a concave body touches
+//! the notch's edges, because an edge's projection range is closed at a non-convex end.
+
+use super::ContactGeom;
+use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
+use crate::geometry::Vec2;
+
+/// All contacts between polygons `p` and `q` (either order). The polygon with the smaller
+/// body index is handled first, so the result does not depend on the argument order.
+pub fn block_block(p: &Polygon, q: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    let (x, y) = if p.body < q.body { (p, q) } else { (q, p) };
+    let mut found = Vec::new();
+    super::joint::edge_edge(x, y, tol, &mut found);
+    // vertices of the larger index first: where the two bodies' candidates coincide, the one
+    // kept is then a vertex of the larger index on an edge of the smaller, as at joint ends
+    vertex_edges(y, x, tol, &mut found);
+    vertex_edges(x, y, tol, &mut found);
+    let mut corners = Vec::new();
+    vertex_vertex(x, y, tol, &mut corners);
+    dedupe(found, corners, tol, out);
+}
+
+/// Whether vertex k of `x` against edge f of `y` is a vertex-edge contact, apart from where
+/// its projection falls (math note §5, B-B vertex-edge): vertex k convex, g0 within
+/// (-d0, d0) (d0 is both the detection threshold and the penetration allowance), and the
+/// cone test (the edges at vertex k do not dip through the edge line). A penetrating vertex
+/// (g0 < 0) must also be inside `y` near the edge ([`Polygon::behind_end_edges`]): below the
+/// edge line but beyond a convex corner's other edge is outside `y`, not a penetration.
+pub fn vertex_edge_admissible(
+    x: &Polygon,
+    k: usize,
+    y: &Polygon,
+    f: usize,
+    tol: &Tolerances,
+) -> bool {
+    let e = y.edge(f);
+    let v = x.vertices[k];
+    let g0 = e.height(v);
+    x.convex[k]
+        && g0 > -tol.threshold
+        && g0 < tol.threshold
+        && x.cone_clear(k, e.n_out, tol)
+        && (g0 >= 0.0 || y.behind_end_edges(f, v, tol))
+}
+
+/// Single vertex-edge contacts of the convex vertices of `x` against the edges of `y`
+/// (math note §5, paper Figure 4): the vertex must project inside the edge
+/// ([`Polygon::projects_inside`]). A = `y`, the edge owner.
+fn vertex_edges(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    for k in 0..x.vertex_count() {
+        for f in 0..y.vertex_count() {
+            if vertex_edge_admissible(x, k, y, f, tol) && y.projects_inside(f, x.vertices[k]) {
+                out.push(vertex_edge_geom(x, k, y, f));
+            }
+        }
+    }
+}
+
+/// Vertex-vertex contacts (math note §5; the paper defers to Shi's DDA): convex vertex V of
+/// `x` and convex vertex W of `y` closer than d0, neither projecting inside an edge incident to
+/// the other. Exactly one contact per such pair ([`separating_line`]).
+fn vertex_vertex(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    for k in (0..x.vertex_count()).filter(|&k| x.convex[k]) {
+        for m in (0..y.vertex_count()).filter(|&m| y.convex[m]) {
+            let (v, w) = (x.vertices[k], y.vertices[m]);
+            let close = (v - w).norm() < tol.threshold;
+            if close && !inside_incident(y, m, v) && !inside_incident(x, k, w) {
+                out.extend(separating_line(x, k, y, m, tol));
+            }
+        }
+    }
+}
+
+/// The one contact of corners V (vertex k of `x`) and W (vertex m of `y`), from four
+/// candidates: V against the two edge lines at W, and W against the two edge lines at V.
+/// Admissible: on the outer side of the line (g0 >= -merge distance) and passing the cone
+/// test, i.e. the line separates the two corners. Chosen: the largest g0 (the separating line
+/// with the widest gap). Tie-break (the note's approach-direction rule needs velocities, which
+/// detection does not have): among candidates within the tie width of the largest g0, the
+/// smallest contact key, i.e. the edge of the smaller body index, then the smaller edge index.
+fn separating_line(
+    x: &Polygon,
+    k: usize,
+    y: &Polygon,
+    m: usize,
+    tol: &Tolerances,
+) -> Option<ContactGeom> {
+    let candidates = [
+        (x, k, y, m),
+        (x, k, y, y.prev(m)),
+        (y, m, x, k),
+        (y, m, x, x.prev(k)),
+    ];
+    let admissible: Vec<ContactGeom> = candidates
+        .iter()
+        .filter(|(a, ka, b, fb)| a.cone_clear(*ka, b.edge(*fb).n_out, tol))
+        .map(|(a, ka, b, fb)| vertex_edge_geom(a, *ka, b, *fb))
+        .filter(|c| c.g0 >= -tol.merge)
+        .collect();
+    let best = admissible
+        .iter()
+        .map(|c| c.g0)
+        .fold(f64::NEG_INFINITY, f64::max);
+    admissible
+        .into_iter()
+        .filter(|c| c.g0 >= best - tol.tie)
+        .min_by_key(|c| c.key)
+}
+
+/// Whether `p` projects inside one of the two edges of `poly` incident to vertex m.
+fn inside_incident(poly: &Polygon, m: usize, p: Vec2) -> bool {
+    poly.projects_inside(m, p) || poly.projects_inside(poly.prev(m), p)
+}
+
+/// Keeps one contact where candidates coincide. `found` (joint contacts first, then
+/// vertex-edge) in order: a candidate is dropped when a kept contact has the same key, or lies
+/// within the merge distance with a parallel or anti-parallel normal (the same constraint seen
+/// from the other body). Contacts at one point with clearly different normals (a vertex in a
+/// notch corner) are distinct constraints and are both kept. A vertex-vertex contact
+/// (`corners`) is dropped if any kept contact lies within the merge distance: the corner is
+/// already held there (e.g. at the coincident end of a joint).
+fn dedupe(
+    found: Vec<ContactGeom>,
+    corners: Vec<ContactGeom>,
+    tol: &Tolerances,
+    out: &mut Vec<ContactGeom>,
+) {
+    let near = |a: &ContactGeom, b: &ContactGeom| (a.point - b.point).norm() <= tol.merge;
+    let mut kept: Vec<ContactGeom> = Vec::with_capacity(found.len() + corners.len());
+    for c in found {
+        let parallel = |k: &ContactGeom| k.normal.dot(&c.normal).abs() >= tol.cos_angle;
+        if !kept
+            .iter()
+            .any(|k| k.key == c.key || (near(k, &c) && parallel(k)))
+        {
+            kept.push(c);
+        }
+    }
+    for c in corners {
+        if !kept.iter().any(|k| k.key == c.key || near(k, &c)) {
+            kept.push(c);
+        }
+    }
+    out.extend(kept);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::*;
+    use super::super::{ContactKind, Feature::*};
+
+    const D0: f64 = 0.1;
+    /// Closed forms evaluated in f64 from coordinates of order 1: a few ulp.
+    const TOL: f64 = 1e-12;
+    const BB: ContactKind = ContactKind::BB;
+
+    /// Math note §5 B-B vertex-edge: a tilted square (10° about its lowest corner) whose lowest
+    /// vertex (0.5, 1.03) sits above the top edge of [0,1]² (edge 2, from (1,1) to (0,1)):
+    /// A = lower square (edge owner), n = n_in = -y, g0 = 0.03, point (0.5, 1.015).
+    /// The other vertices of the tilted square are at least sin(10°) higher.
+    #[test]
+    fn vertex_above_edge() {
+        let a = 10f64.to_radians();
+        let (c, s) = (a.cos(), a.sin());
+        let v0 = (0.5, 1.03);
+        let tilted = polygon(&[
+            v0,
+            (v0.0 + c, v0.1 + s),
+            (v0.0 + c - s, v0.1 + s + c),
+            (v0.0 - s, v0.1 + c),
+        ]);
+        let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &tilted, D0);
+        assert_eq!(got.len(), 1, "{got:?}");
+        check(
+            &got[0],
+            key(0, Edge(2), 1, Vertex(0)),
+            BB,
+            (0.0, -1.0),
+            0.03,
+            (0.5, 1.015),
+            TOL,
+        );
+        assert!(got[0].joint.is_none() && got[0].joint_length == 0.0);
+    }
+
+    /// Math note §5 vertex-vertex, clear winner. A = [0,1]² (vertex V = (1,1) is vertex 2);
+    /// B is a unit square rotated by α = 10° with its corner W = V + (a, b), a = 0.03,
+    /// b = 0.01, edges from W along u1 = (cos α, sin α) and u2 = (-sin α, cos α); tan α < b/a
+    /// keeps V out of B's edges and W is in V's corner region. Candidates:
+    /// W vs A's top line g0 = b (admissible); W vs A's right line: B's edge u2 dips by α > 2°
+    /// (rejected); V vs B's edge 0 line: A's top edge dips (rejected); V vs B's edge 3 line
+    /// (from W + u2 to W, n_out = -u1): g0 = a cos α + b sin α = 0.0313 (admissible, largest).
+    /// So A = B, n = u1, point = V + (g0/2) u1.
+    #[test]
+    fn vertex_vertex_largest_gap() {
+        let (al, a, b) = (10f64.to_radians(), 0.03, 0.01);
+        let (c, s) = (al.cos(), al.sin());
+        let w = (1.0 + a, 1.0 + b);
+        let sq_b = polygon(&[
+            w,
+            (w.0 + c, w.1 + s),
+            (w.0 + c - s, w.1 + s + c),
+            (w.0 - s, w.1 + c),
+        ]);
+        let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &sq_b, D0);
+        assert_eq!(got.len(), 1, "{got:?}");
+        let g0 = a * c + b * s;
+        let p = (1.0 + 0.5 * g0 * c, 1.0 + 0.5 * g0 * s);
+        check(
+            &got[0],
+            key(1, Edge(3), 0, Vertex(2)),
+            BB,
+            (c, s),
+            g0,
+            p,
+            TOL,
+        );
+    }
+
+    /// Math note §5 vertex-vertex tie: A = [0,1]², B = [1.03,2.03]×[1.01,2.01] (corner to
+    /// corner, W = (1.03,1.01) is B's vertex 0). Admissible candidates: W vs A's right line
+    /// and V vs B's left line, both g0 = 0.03 (the lines x = 1 and x = 1.03); the y-lines give
+    /// only 0.01. Tie-break: the edge of the smaller body index, so W on A's edge 1:
+    /// A = body 0, n = -x, point (1.015, 1.01). Exactly one contact.
+    #[test]
+    fn vertex_vertex_tie_takes_smaller_body_edge() {
+        let got = contacts(
+            1,
+            0,
+            &rect(1.03, 1.01, 2.03, 2.01),
+            &rect(0.0, 0.0, 1.0, 1.0),
+            D0,
+        );
+        assert_eq!(got.len(), 1, "{got:?}");
+        check(
+            &got[0],
+            key(0, Edge(1), 1, Vertex(0)),
+            BB,
+            (-1.0, 0.0),
+            0.03,
+            (1.015, 1.01),
+            TOL,
+        );
+    }
+
+    /// Corners further apart than d0 (gap (0.08, 0.08), |V - W| = 0.113): nothing.
+    #[test]
+    fn corners_beyond_threshold() {
+        assert!(
+            contacts(
+                0,
+                1,
+                &rect(0.0, 0.0, 1.0, 1.0),
+                &rect(1.08, 1.08, 2.0, 2.0),
+                D0
+            )
+            .is_empty()
+        );
+    }
+
+    /// Two vertex-edge contacts at one point with the same constraint: corners crossing by
+    /// 1e-5 in x (below the merge distance 0.01 d0 = 1e-3) with parallel edges 0.004 apart.
+    /// A's vertex (1,1) projects inside B's bottom edge and B's vertex (0.99999, 1.004) inside
+    /// A's top edge; the overlap (1e-5) is too short for a joint, the two candidates coincide
+    /// to 1e-5 with opposite normals, so one is kept: B's vertex 0 on A's edge 2 (found first,
+    /// A = body 0), n = -y, g0 = 0.004, point (0.99999, 1.002).
+    #[test]
+    fn coincident_vertex_edge_pair_is_one_contact() {
+        let got = contacts(
+            0,
+            1,
+            &rect(0.0, 0.0, 1.0, 1.0),
+            &rect(0.99999, 1.004, 2.0, 2.0),
+            D0,
+        );
+        assert_eq!(got.len(), 1, "{got:?}");
+        check(
+            &got[0],
+            key(0, Edge(2), 1, Vertex(0)),
+            BB,
+            (0.0, -1.0),
+            0.004,
+            (0.99999, 1.002),
+            TOL,
+        );
+    }
+
+    /// Concave body: L = [0,2]×[0,1] ∪ [0,1]×[1,2], notch corner (1,1) = vertex 3 (reflex).
+    /// A triangle (1.08,1.03), (1.5,1.5), (1.03,1.08) sits in the notch; its edge 2 (line
+    /// x + y = 2.11) passes 0.11/√2 = 0.078 < d0 from the reflex corner, which projects inside
+    /// it, yet the reflex vertex makes no contact. The triangle's vertex 0 touches the floor
+    /// (L's edge 2, projection closed at the reflex end): A = L, n = -y, g0 = 0.03, point
+    /// (1.08, 1.015); its vertex 2 touches the wall (edge 3): n = -x, g0 = 0.03, point
+    /// (1.015, 1.08). Vertex 0 vs the wall (g0 = 0.08) fails the cone test: the triangle's
+    /// edge 2 dips 45° through the wall line; likewise vertex 2 vs the floor.
+    #[test]
+    fn convex_vertices_touch_notch_edges_reflex_vertex_does_not() {
+        let l = polygon(&[(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]);
+        let tri = polygon(&[(1.08, 1.03), (1.5, 1.5), (1.03, 1.08)]);
+        let got = contacts(0, 1, &l, &tri, D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        check(
+            &got[0],
+            key(0, Edge(2), 1, Vertex(0)),
+            BB,
+            (0.0, -1.0),
+            0.03,
+            (1.08, 1.015),
+            TOL,
+        );
+        check(
+            &got[1],
+            key(0, Edge(3), 1, Vertex(2)),
+            BB,
+            (-1.0, 0.0),
+            0.03,
+            (1.015, 1.08),
+            TOL,
+        );
+    }
+
+    mod random_convex_pairs {
+        //! Properties of random separated convex polygons at a known distance d (found by
+        //! bisection along a random direction). Edges are at least 0.2 long (> 10 d0, the
+        //! resolution assumed by math note §5 "Choosing d0").
+        use super::super::super::narrow::Tolerances;
+        use super::super::super::{BodyShape, ContactGeom};
+        use super::*;
+        use crate::geometry::Vec2;
+        use proptest::prelude::*;
+
+        const D0: f64 = 0.02;
+
+        /// The second polygon moved along `u` until its distance to the first is `d`.
+        fn place(p: &[Vec2], q: &[Vec2], u: Vec2, d: f64) -> Vec<Vec2> {
+            let moved = |t: f64| -> Vec<Vec2> { q.iter().map(|v| v + t * u).collect() };
+            moved(bisect(|t| polygon_distance(p, &moved(t)), d))
+        }
+
+        fn shape(v: Vec<Vec2>) -> BodyShape {
+            polygon_of(v)
+        }
+
+        fn concave_pair() -> impl Strategy<Value = (Vec<Vec2>, Vec<Vec2>, Vec2)> {
+            let gaps = prop::collection::vec(1.0..1.9f64, 3..6);
+            let l = (1.0..2.0f64, 1.0..2.0f64, 0.3..0.8f64, 0.0..6.3f64);
+            (l, gaps, 0.4..0.8f64, 0.0..6.3f64, 0.0..6.3f64).prop_map(
+                |((a, b, t, lt), gb, rb, tb, dir)| {
+                    let q = convex(Vec2::zeros(), rb, tb, &gb);
+                    (l_shape(a, b, t, lt), q, Vec2::new(dir.cos(), dir.sin()))
+                },
+            )
+        }
+
+        fn pair() -> impl Strategy<Value = (Vec<Vec2>, Vec<Vec2>, Vec2)> {
+            let gaps = prop::collection::vec(1.0..1.9f64, 3..7);
+            (
+                gaps.clone(),
+                gaps,
+                1.0..2.0f64,
+                1.0..2.0f64,
+                0.0..6.3f64,
+                0.0..6.3f64,
+                0.0..6.3f64,
+            )
+                .prop_map(|(ga, gb, ra, rb, ta, tb, dir)| {
+                    let a = convex(Vec2::zeros(), ra, ta, &ga);
+                    let b = convex(Vec2::zeros(), rb, tb, &gb);
+                    (a, b, Vec2::new(dir.cos(), dir.sin()))
+                })
+        }
+
+        fn check_invariants(c: &[ContactGeom]) {
+            let tol = Tolerances::new(D0);
+            for (i, x) in c.iter().enumerate() {
+                assert!((x.normal.norm() - 1.0).abs() < 1e-12 && x.g0 < D0 && x.g0 > -D0);
+                assert!(matches!((x.key.fa, x.key.fb), (Edge(_), Vertex(_))));
+                for y in &c[i + 1..] {
+                    let same_point = (x.point - y.point).norm() <= tol.merge;
+                    let parallel = x.normal.dot(&y.normal).abs() >= tol.cos_angle;
+                    assert!(!(same_point && parallel), "duplicate {x:?} {y:?}");
+                }
+                let in_joint = c
+                    .iter()
+                    .filter(|y| x.joint.is_some() && y.joint == x.joint)
+                    .count();
+                assert!(in_joint <= 2);
+            }
+        }
+
+        proptest! {
+            /// Closer than d0: at least one contact, none claiming penetration (g0 >= -merge
+            /// distance), no duplicates, and the same result in either argument order.
+            #[test]
+            fn close_pairs_are_detected((a, b, u) in pair(), d in 1e-4..0.9 * D0) {
+                let b = place(&a, &b, u, d);
+                let c = contacts(0, 1, &shape(a.clone()), &shape(b.clone()), D0);
+                prop_assert!(!c.is_empty(), "distance {d}: no contact");
+                prop_assert!(c.iter().all(|x| x.g0 >= -0.01 * D0), "{c:?}");
+                check_invariants(&c);
+                prop_assert_eq!(c, contacts(1, 0, &shape(b), &shape(a), D0));
+            }
+
+            /// The same with a concave L-shape (a convex polygon may sit in its notch).
+            #[test]
+            fn close_concave_pairs_are_detected((a, b, u) in concave_pair(), d in 1e-4..0.9 * D0) {
+                let b = place(&a, &b, u, d);
+                let c = contacts(0, 1, &shape(a.clone()), &shape(b.clone()), D0);
+                prop_assert!(!c.is_empty(), "distance {d}: no contact");
+                prop_assert!(c.iter().all(|x| x.g0 >= -0.01 * D0), "{c:?}");
+                check_invariants(&c);
+            }
+
+            /// Further than 1.5 d0 apart: nothing.
+            #[test]
+            fn far_pairs_give_nothing((a, b, u) in pair(), d in 1.5 * D0..0.5) {
+                let b = place(&a, &b, u, d);
+                prop_assert!(contacts(0, 1, &shape(a), &shape(b), D0).is_empty());
+            }
+        }
+    }
+}
