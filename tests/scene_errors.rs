@@ -747,10 +747,10 @@ fn polygon_zero_length_edge() {
 
 #[test]
 fn polygon_zero_area() {
-    // simple, edges 1e-7 long (above the 1e-12 edge tolerance), but twice the area is
-    // 2e-14, below the 1e-12 area tolerance of geometry::check_simple_polygon
-    let square = polygon("[[1, 1], [1.0000001, 1], [1.0000001, 1.0000001], [1, 1.0000001]]");
-    fails(&square, "19 body[1].vertices: zero area");
+    // a sliver: simple, edges about 1 long, but twice the area is 1e-13, below the area
+    // tolerance of geometry::check_simple_polygon (1e-12 times the squared size)
+    let sliver = polygon("[[1, 1], [2, 1], [1.5, 1.0000000000001]]");
+    fails(&sliver, "19 body[1].vertices: zero area");
 }
 
 #[test]
@@ -828,12 +828,25 @@ fn mesh_keys_are_not_supported_yet() {
 }
 
 #[test]
-fn deformable_model_is_not_supported_yet() {
-    let source = body_with("model = \"deformable\"");
+fn deformable_body_needs_young_and_poisson() {
+    // MINIMAL's material "rock" has a density only
     fails(
-        &source,
-        "15 body[0].model: model = \"deformable\" is not supported yet",
+        &body_with("model = \"deformable\""),
+        "15 body[0].model: a deformable body needs `young` and `poisson`",
     );
+}
+
+#[test]
+fn deformable_body_with_initial_stress_parses() {
+    let elastic = edit(8, "density = 2500.0\nyoung = 1.0e9\npoisson = 0.25");
+    let source = format!("{elastic}model = \"deformable\"\ninitial_stress = [-1.0, -2.0, 0.5]\n");
+    let m = ok(&source);
+    assert_eq!(m.bodies[0].model, pbdda::model::BodyModel::Deformable);
+    assert_eq!(m.bodies[0].initial_stress, Some([-1.0, -2.0, 0.5]));
+    let bad = format!("{elastic}model = \"deformable\"\ninitial_stress = [1.0, nan, 0.0]\n");
+    fails(&bad, "18 body[0].initial_stress: finite");
+    let bad = format!("{elastic}model = \"elastic\"\n");
+    fails(&bad, "17 body[0].model");
 }
 
 #[test]

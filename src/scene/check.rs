@@ -28,7 +28,7 @@ pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
     let solver = solver(&raw.solver)?;
     let (materials, material_names) = materials(&raw.material)?;
     let interfaces = interfaces(&raw.interface, &material_names)?;
-    let (bodies, body_names) = bodies(&raw.body, &material_names)?;
+    let (bodies, body_names) = bodies(&raw.body, &material_names, &materials)?;
     let loads = raw
         .load
         .iter()
@@ -361,6 +361,7 @@ const SHAPES: [(&str, ShapeKind); 3] = [
 fn bodies<'a>(
     raw: &'a Spanned<Vec<Spanned<raw::Body>>>,
     materials: &Names,
+    material_list: &[Material],
 ) -> Check<(Vec<BodySpec>, Names<'a>)> {
     if raw.get_ref().is_empty() {
         return fail(raw.span(), "a scene needs at least one [[body]]");
@@ -369,46 +370,53 @@ fn bodies<'a>(
     let list = raw
         .get_ref()
         .iter()
-        .map(|b| body(b, materials))
+        .map(|b| body(b, materials, material_list))
         .collect::<Check<_>>()?;
     Ok((list, names))
 }
 
-fn body(b: &Spanned<raw::Body>, materials: &Names) -> Check<BodySpec> {
+fn body(b: &Spanned<raw::Body>, materials: &Names, material_list: &[Material]) -> Check<BodySpec> {
     let (header, b) = (b.span(), b.get_ref());
     if b.shape.get_ref() == "mesh" {
         return fail(b.shape.span(), "shape = \"mesh\" is not supported yet");
     }
     let kind = choice(&b.shape, "shape", &SHAPES)?;
     let shape = shape(b, header, kind)?;
-    let model = body_model(b)?;
+    let material = resolve(materials, &b.material, "material")?;
+    let model = body_model(b, &material_list[material])?;
+    let initial_stress = match &b.initial_stress {
+        Some(s) if model == BodyModel::Rigid => {
+            return fail(s.span(), "initial_stress is only for deformable bodies");
+        }
+        Some(s) => Some(numbers(s.get_ref(), s.span(), "initial_stress")?),
+        None => None,
+    };
     Ok(BodySpec {
         name: b.name.get_ref().clone(),
         shape,
         model,
-        material: resolve(materials, &b.material, "material")?,
+        material,
         fixed: b.fixed,
         velocity: or_default(&b.velocity, "velocity", vec2, Vec2::zeros())?,
         angular_velocity: or_default(&b.angular_velocity, "angular_velocity", finite, 0.0)?,
-        initial_stress: None,
+        initial_stress,
     })
 }
 
-/// `model`: only "rigid" is supported yet, so `initial_stress` is always out of place.
-fn body_model(b: &raw::Body) -> Check<BodyModel> {
+/// `model`: "rigid" (default) or "deformable", which needs the material's `young` and
+/// `poisson`.
+fn body_model(b: &raw::Body, material: &Material) -> Check<BodyModel> {
     let options = [
         ("rigid", BodyModel::Rigid),
         ("deformable", BodyModel::Deformable),
     ];
-    if let Some(m) = &b.model
-        && choice(m, "model", &options)? == BodyModel::Deformable
-    {
-        return fail(m.span(), "model = \"deformable\" is not supported yet");
+    let Some(m) = &b.model else { return Ok(BodyModel::Rigid) };
+    let model = choice(m, "model", &options)?;
+    if model == BodyModel::Deformable && (material.young.is_none() || material.poisson.is_none()) {
+        let name = &material.name;
+        return fail(m.span(), format!("a deformable body needs `young` and `poisson` in material \"{name}\""));
     }
-    if let Some(s) = &b.initial_stress {
-        return fail(s.span(), "initial_stress is only for deformable bodies");
-    }
-    Ok(BodyModel::Rigid)
+    Ok(model)
 }
 
 /// `header` is the span of the body's `[[body]]` line, where a missing key is reported.

@@ -118,8 +118,8 @@ pub(super) struct Body {
     pub fixed: bool,
     pub velocity: Option<Spanned<Vec<f64>>>,
     pub angular_velocity: Option<Spanned<f64>>,
-    /// Deformable bodies only, which are not supported yet: read only to be rejected.
-    pub initial_stress: Option<Spanned<IgnoredAny>>,
+    /// Deformable bodies only: (σx, σy, τxy) [Pa].
+    pub initial_stress: Option<Spanned<Vec<f64>>>,
 }
 
 /// `[[load]]`
