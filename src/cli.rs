@@ -80,6 +80,11 @@ fn run(scene_path: &Path, out: &Path, overwrite: bool, quiet: bool) -> Result<()
                 bar.suspend(|| eprintln!("warning: {w}"));
             }
         }
+        for e in &rec.events {
+            if !quiet {
+                bar.suspend(|| eprintln!("{e}"));
+            }
+        }
         writer.write_step(&world, &rec)?;
         bar.set_message(format!("t = {:.4} s, {} contacts", rec.time, rec.contacts.len()));
         bar.inc(1);

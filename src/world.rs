@@ -11,11 +11,13 @@
 
 use crate::body::{Body, Dofs};
 use crate::cluster::{Flexibility, Jacobian, is_finite};
+use crate::contact::law::{ContactBounds, Law};
 use crate::contact::set::{ContactMemory, Memory, interface_for, joint_partners};
 use crate::contact::{ContactGeom, ContactKey, ContactKind, detect};
+use std::collections::HashSet;
 use crate::geometry::{Vec2, cw};
 use crate::model::{Interface, Load, Model};
-use crate::vi::{self, BoundRule, Problem};
+use crate::vi::{self, Problem};
 use std::time::Instant;
 
 /// Library-level switches that are not part of the scene format.
@@ -40,6 +42,8 @@ pub enum ContactState {
     Open,
     Stick,
     Slide,
+    /// Intact cemented joint (math note §4.5).
+    Bonded,
 }
 
 impl ContactState {
@@ -48,6 +52,7 @@ impl ContactState {
             ContactState::Open => "open",
             ContactState::Stick => "stick",
             ContactState::Slide => "slide",
+            ContactState::Bonded => "bonded",
         }
     }
 }
@@ -66,6 +71,8 @@ pub struct ContactRecord {
     pub normal_force: f64,
     /// Tangential force along τ = cw(n), acting on body A [N/m].
     pub shear_force: f64,
+    /// Rolling-resistance couple on body A, ccw positive [N m/m]; `None` without a rolling row.
+    pub rolling_moment: Option<f64>,
     /// Normal gap at the end of the step (linearized, solve 1) [m].
     pub gap: f64,
     pub state: ContactState,
@@ -86,6 +93,8 @@ pub struct StepRecord {
     pub wall_seconds: f64,
     /// Numerical trouble worth a line in the run log (non-convergence, penetration).
     pub warnings: Vec<String>,
+    /// Events of the physics worth a line in the run log (cemented joints breaking).
+    pub events: Vec<String>,
 }
 
 /// Numerical failure that stops a run.
@@ -118,15 +127,14 @@ pub struct World {
     pub monitors: Vec<TrackedPoint>,
     flex: Flexibility,
     memory: ContactMemory,
+    /// Contacts of cemented joints that broke: their cohesion is lost for good (§4.5).
+    broken: HashSet<ContactKey>,
 }
 
 /// A contact as the solve stage sees it: geometry, law and memory.
 struct Active {
     geom: ContactGeom,
-    friction: f64,
-    /// Cohesive capacity of the contact's joint [N] (stress × overlap length).
-    cohesion: f64,
-    partner: Option<usize>,
+    law: Law,
     memory: Option<Memory>,
 }
 
@@ -143,7 +151,7 @@ impl World {
         let monitors = model.monitors.iter().map(|m| track(m.body, m.point)).collect();
         let threshold = model.contact.threshold.unwrap_or_else(|| default_threshold(&bodies));
         let flex = Flexibility::new(&bodies, model.time.step);
-        World {
+        let mut world = World {
             model,
             settings,
             bodies,
@@ -154,7 +162,30 @@ impl World {
             monitors,
             flex,
             memory: ContactMemory::new(),
+            broken: HashSet::new(),
+        };
+        world.cement();
+        world
+    }
+
+    /// Cements the contacts closed at t = 0 whose interface has a tensile strength (math
+    /// note §4.5, hypothesis i). Only joints have a length, so only edge-edge joints bond.
+    fn cement(&mut self) {
+        let closed = 1e-9 * self.threshold;
+        for g in detect(&self.shapes(), &self.fixed(), self.threshold) {
+            let law = self.interface(g.a, g.b);
+            if law.tensile_strength > 0.0 && g.joint_length > 0.0 && g.g0.abs() <= closed {
+                self.memory.insert(g.key, Memory { force: [0.0; 3], closed: true, bonded: true });
+            }
         }
+    }
+
+    fn shapes(&self) -> Vec<crate::contact::BodyShape> {
+        self.bodies.iter().map(Body::shape).collect()
+    }
+
+    fn fixed(&self) -> Vec<bool> {
+        self.bodies.iter().map(|b| b.fixed).collect()
     }
 
     pub fn dt(&self) -> f64 {
@@ -188,12 +219,14 @@ impl World {
         }
         self.update(&dbar, &dvel, dt);
         self.flex.refresh(&self.bodies);
-        let records = self.contact_records(&contacts, &solved);
-        self.remember(&records, &solved.z1);
+        let broken = self.breakage(&contacts, &solved);
+        let records = self.contact_records(&contacts, &solved, &broken);
+        self.remember(&contacts, &solved, &broken);
         self.step_index = step;
         self.time = t1;
         let mut warnings = solved.warnings;
         warnings.extend(self.penetration_warnings(&contacts, step));
+        let events = self.breakage_events(&contacts, &broken, step);
         Ok(StepRecord {
             step,
             time: t1,
@@ -206,12 +239,13 @@ impl World {
             kinetic_energy: self.bodies.iter().map(Body::kinetic_energy).sum(),
             wall_seconds: started.elapsed().as_secs_f64(),
             warnings,
+            events,
         })
     }
 
     /// Stage 1: the contact-free prediction d^f = K⁻¹ f, with
-    /// f = f_ext(t1) + (2/dt) M v0 (math note eq. 1.2; loads at the end of the step, where
-    /// the implicit scheme evaluates the equation of motion).
+    /// f = f_ext(t1) + (2/dt) M v0 + f_σ (math note eq. 1.2; loads at the end of the step,
+    /// where the implicit scheme evaluates the equation of motion).
     fn predict(&self, t1: f64) -> Vec<Dofs> {
         let dt = self.dt();
         let g = self.model.physics.gravity;
@@ -219,7 +253,6 @@ impl World {
             .bodies
             .iter()
             .map(|b| {
-                // f = (2/dt) M v0 + f_σ + body force (math note eq. 1.2, §2.4)
                 let mut fb = b.mass_matrix() * self.v0(b) * (2.0 / dt) + b.stress_load();
                 // body force, centroid reference (math note §2.4)
                 fb[0] += b.mass * g.x;
@@ -237,52 +270,72 @@ impl World {
     }
 
     /// Stage 2: contacts within the threshold, enlarged when the predicted motion of this
-    /// step needs it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA).
+    /// step needs it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA), with their laws and
+    /// VI row layout.
     fn detect(&self, df: &[Dofs]) -> Vec<Active> {
         let u_max = self.bodies.iter().zip(df).map(|(b, d)| b.max_displacement(d)).fold(0.0, f64::max);
         let threshold = self.threshold.max(2.5 * u_max);
-        let shapes: Vec<_> = self.bodies.iter().map(Body::shape).collect();
-        let fixed: Vec<bool> = self.bodies.iter().map(|b| b.fixed).collect();
-        let geoms = detect(&shapes, &fixed, threshold);
+        let geoms = detect(&self.shapes(), &self.fixed(), threshold);
         let partners = joint_partners(&geoms);
+        let mut row = 0;
         geoms
             .into_iter()
             .zip(partners)
             .map(|(geom, partner)| {
-                let law = self.interface(geom.a, geom.b);
-                Active {
-                    friction: law.friction,
-                    cohesion: law.cohesion * geom.joint_length,
-                    partner,
-                    memory: self.memory.get(&geom.key).copied(),
-                    geom,
-                }
+                let memory = self.memory.get(&geom.key).copied();
+                let law = self.law(&geom, partner, memory, row);
+                row += law.rows();
+                Active { geom, law, memory }
             })
             .collect()
+    }
+
+    /// The law of one contact: interface of the two materials, capacities over the joint's
+    /// length, rolling rows for particle contacts only (math note §4.4).
+    fn law(&self, g: &ContactGeom, partner: Option<usize>, memory: Option<Memory>, row: usize) -> Law {
+        let i = self.interface(g.a, g.b);
+        let particle = g.kind != ContactKind::BB;
+        let intact = !self.broken.contains(&g.key);
+        Law {
+            row,
+            friction: i.friction,
+            cohesion: if intact { i.cohesion * g.joint_length } else { 0.0 },
+            tensile: i.tensile_strength * g.joint_length,
+            rolling: if particle { i.rolling } else { 0.0 },
+            bonded: intact && memory.is_some_and(|m| m.bonded),
+            partner,
+        }
     }
 
     fn interface(&self, a: usize, b: usize) -> &Interface {
         interface_for(&self.model.interfaces, self.bodies[a].material, self.bodies[b].material)
     }
 
-    /// Stage 3: the contact Jacobian (rows 2k normal, 2k+1 tangent; math note §3.1) and
-    /// q = g0 + B d^f.
+    /// Stage 3: the contact Jacobian (rows normal, tangent and rolling of each contact;
+    /// math note §3.1, §4.4) and q = g0 + B d^f.
     fn flexibility(&self, contacts: &[Active], df: &[Dofs]) -> (Jacobian, Vec<f64>) {
-        let mut jac = Jacobian::new(self.bodies.len(), 2 * contacts.len());
-        for (k, c) in contacts.iter().enumerate() {
-            let (n, tau) = (c.geom.normal, cw(c.geom.normal));
+        let rows = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
+        let mut jac = Jacobian::new(self.bodies.len(), rows);
+        for c in contacts {
+            let (n, tau, x, r) = (c.geom.normal, cw(c.geom.normal), c.geom.point, c.law.row);
             for (body, sign) in [(c.geom.a, 1.0), (c.geom.b, -1.0)] {
                 let b = &self.bodies[body];
                 if b.fixed {
                     continue;
                 }
-                jac.push(body, 2 * k, b.shape_row(c.geom.point, n) * sign);
-                jac.push(body, 2 * k + 1, b.shape_row(c.geom.point, tau) * sign);
+                jac.push(body, r, b.shape_row(x, n) * sign);
+                jac.push(body, r + 1, b.shape_row(x, tau) * sign);
+                if c.law.rolling > 0.0 {
+                    // the couple acts on θ alone, on a block too (math note §4.4)
+                    let mut couple = Dofs::zeros();
+                    couple[2] = sign;
+                    jac.push(body, r + 2, couple);
+                }
             }
         }
         let mut q = jac.apply(df);
-        for (k, c) in contacts.iter().enumerate() {
-            q[2 * k] += c.geom.g0;
+        for c in contacts {
+            q[c.law.row] += c.geom.g0;
         }
         (jac, q)
     }
@@ -296,11 +349,14 @@ impl World {
             max_outer: 50,
             jacobi: self.settings.jacobi,
         };
-        let mut rule = ContactBounds { contacts, share: self.settings.share_cohesion };
-        let mut z1: Vec<f64> = contacts
-            .iter()
-            .flat_map(|c| c.memory.map_or([0.0, 0.0], |m| m.force))
-            .collect();
+        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
+        let mut rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
+        let mut z1 = vec![0.0; q.len()];
+        for c in contacts {
+            let n = c.law.rows();
+            let warm = c.memory.map_or([0.0; 3], |m| m.force);
+            z1[c.law.row..c.law.row + n].copy_from_slice(&warm[..n]);
+        }
         let mut report = vi::solve(&Problem { w, q }, &mut rule, &mut z1, &opts);
         let mut warnings = Vec::new();
         let step = self.step_index + 1;
@@ -313,14 +369,14 @@ impl World {
             }
         };
         note(&report, "solve 1");
+        let closed: Vec<bool> = contacts.iter().map(|c| c.law.bonded || z1[c.law.row] > 0.0).collect();
         let zero_g0 = 1e-12 * self.threshold;
-        let closed = |k: usize, z: &[f64]| z[2 * k] > 0.0;
-        let needs_second = (0..contacts.len()).any(|k| closed(k, &z1) && contacts[k].geom.g0.abs() > zero_g0);
+        let needs_second = contacts.iter().zip(&closed).any(|(c, &cl)| cl && c.geom.g0.abs() > zero_g0);
         let z2 = if needs_second {
             let mut q2 = q.to_vec();
-            for (k, c) in contacts.iter().enumerate() {
-                if closed(k, &z1) {
-                    q2[2 * k] -= c.geom.g0;
+            for (c, &cl) in contacts.iter().zip(&closed) {
+                if cl {
+                    q2[c.law.row] -= c.geom.g0;
                 }
             }
             let mut z2 = z1.clone();
@@ -334,19 +390,21 @@ impl World {
         } else {
             z1.clone()
         };
-        let gaps = {
-            let mut g = q.to_vec();
-            sprs::prod::mul_acc_mat_vec_csr(w.view(), &z1[..], &mut g[..]);
-            g
-        };
-        let impacting = (0..contacts.len()).map(|k| self.is_impacting(&contacts[k], closed(k, &z1))).collect();
-        Solved { z1, z2, gaps, impacting, report, warnings }
+        let mut gaps = q.to_vec();
+        sprs::prod::mul_acc_mat_vec_csr(w.view(), &z1[..], &mut gaps[..]);
+        let mut impacting_rows = vec![false; q.len()];
+        for (c, &cl) in contacts.iter().zip(&closed) {
+            if cl && self.is_impacting(c) {
+                impacting_rows[c.law.row..c.law.row + c.law.rows()].fill(true);
+            }
+        }
+        Solved { z1, z2, gaps, closed, impacting_rows, report, warnings }
     }
 
-    /// Math note §1.3 (b): not closed at the end of the last step, approaching at the step
-    /// start, and closed in solve 1.
-    fn is_impacting(&self, c: &Active, closed_now: bool) -> bool {
-        if !closed_now || c.memory.is_some_and(|m| m.closed) {
+    /// Math note §1.3 (b): not closed at the end of the last step and approaching at the
+    /// step start (the caller checks that it closed in solve 1).
+    fn is_impacting(&self, c: &Active) -> bool {
+        if c.memory.is_some_and(|m| m.closed) {
             return false;
         }
         let x = c.geom.point;
@@ -363,14 +421,14 @@ impl World {
     fn split_displacements(&self, jac: &Jacobian, df: &[Dofs], s: &Solved) -> (Vec<Dofs>, Vec<Dofs>) {
         let all = |_: usize| true;
         let dp1 = jac.response(&self.flex, &s.z1, all);
-        let dimp = jac.response(&self.flex, &s.z1, |r| s.impacting[r / 2]);
+        let dimp = jac.response(&self.flex, &s.z1, |r| s.impacting_rows[r]);
         let dp2 = jac.response(&self.flex, &s.z2, all);
         let dbar = (0..df.len()).map(|b| df[b] + dp1[b] + dimp[b]).collect();
         let dvel = (0..df.len()).map(|b| df[b] + dp2[b]).collect();
         (dbar, dvel)
     }
 
-    /// Stage 5: geometry from dbar (paper eq. 16), velocity v1 = 2 d/dt − v0 (math note
+    /// Stage 5: geometry from dbar (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note
     /// eq. 1.1); the next step starts from k v1 (see [`Self::v0`]).
     fn update(&mut self, dbar: &[Dofs], dvel: &[Dofs], dt: f64) {
         for p in self.load_points.iter_mut().chain(self.monitors.iter_mut()) {
@@ -385,17 +443,52 @@ impl World {
         }
     }
 
-    fn contact_records(&self, contacts: &[Active], s: &Solved) -> Vec<ContactRecord> {
-        let rule = ContactBounds { contacts, share: self.settings.share_cohesion };
+    /// Bonded contacts that reached their tensile share and opened in solve 1: broken for
+    /// good, together with their joint partner (math note §4.5, hypothesis iv).
+    fn breakage(&self, contacts: &[Active], s: &Solved) -> Vec<bool> {
+        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
+        let rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
+        let opened = 1e-12 * self.threshold;
+        let mut broken: Vec<bool> = (0..contacts.len())
+            .map(|k| {
+                let (law, r) = (&laws[k], laws[k].row);
+                law.bonded && s.z1[r] <= -rule.tensile_bound(k, &s.z1) * (1.0 - 1e-9) && s.gaps[r] > opened
+            })
+            .collect();
+        for k in 0..contacts.len() {
+            if let Some(l) = laws[k].partner.filter(|_| broken[k]) {
+                broken[l] = true;
+            }
+        }
+        broken
+    }
+
+    fn breakage_events(&mut self, contacts: &[Active], broken: &[bool], step: usize) -> Vec<String> {
+        let mut events = Vec::new();
+        for (c, _) in contacts.iter().zip(broken).filter(|(_, b)| **b) {
+            self.broken.insert(c.geom.key);
+            events.push(format!(
+                "step {step}: cemented contact between {} and {} at ({}, {}) broke",
+                self.bodies[c.geom.a].name, self.bodies[c.geom.b].name, c.geom.point.x, c.geom.point.y
+            ));
+        }
+        events
+    }
+
+    fn contact_records(&self, contacts: &[Active], s: &Solved, broken: &[bool]) -> Vec<ContactRecord> {
+        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
+        let rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
         contacts
             .iter()
             .enumerate()
             .map(|(k, c)| {
-                let (pn, pt) = (s.z2[2 * k], s.z2[2 * k + 1]);
-                let bound = rule.tangential_bound(k, &s.z2);
-                let state = if pn <= 0.0 {
+                let r = c.law.row;
+                let (pn, pt) = (s.z2[r], s.z2[r + 1]);
+                let state = if c.law.bonded && !broken[k] {
+                    ContactState::Bonded
+                } else if pn <= 0.0 {
                     ContactState::Open
-                } else if pt.abs() >= bound * (1.0 - 1e-9) {
+                } else if pt.abs() >= rule.tangential_bound(k, &s.z2) * (1.0 - 1e-9) {
                     ContactState::Slide
                 } else {
                     ContactState::Stick
@@ -409,21 +502,25 @@ impl World {
                     normal: c.geom.normal,
                     normal_force: pn,
                     shear_force: pt,
-                    gap: s.gaps[2 * k],
+                    rolling_moment: (c.law.rolling > 0.0).then(|| s.z2[r + 2]),
+                    gap: s.gaps[r],
                     state,
                 }
             })
             .collect()
     }
 
-    /// Warm start and "was closed" memory for the next step (closed in solve 1).
-    fn remember(&mut self, records: &[ContactRecord], z1: &[f64]) {
-        self.memory = records
+    /// Warm start, "was closed" and bond memory for the next step.
+    fn remember(&mut self, contacts: &[Active], s: &Solved, broken: &[bool]) {
+        self.memory = contacts
             .iter()
             .enumerate()
-            .map(|(k, r)| {
-                let m = Memory { force: [r.normal_force, r.shear_force], closed: z1[2 * k] > 0.0 };
-                (r.key, m)
+            .map(|(k, c)| {
+                let r = c.law.row;
+                let mut force = [0.0; 3];
+                force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
+                let bonded = c.law.bonded && !broken[k];
+                (c.geom.key, Memory { force, closed: s.closed[k] && !broken[k], bonded })
             })
             .collect();
     }
@@ -451,63 +548,12 @@ struct Solved {
     z2: Vec<f64>,
     /// Gaps G(z1) = q + W z1 at the end of the step.
     gaps: Vec<f64>,
-    impacting: Vec<bool>,
+    /// Per contact: closed (or bonded) in solve 1.
+    closed: Vec<bool>,
+    /// Per VI row: belongs to an impacting contact (math note §1.3 b).
+    impacting_rows: Vec<bool>,
     report: vi::Report,
     warnings: Vec<String>,
-}
-
-impl Active {
-    /// Coulomb bound with cohesion, τ = c + μ max(p_n, 0) (paper eq. 19); cohesion acts only
-    /// on a closed contact.
-    fn tangential_bound(&self, pn: f64, cohesion: f64) -> f64 {
-        if pn > 0.0 { cohesion + self.friction * pn } else { 0.0 }
-    }
-}
-
-/// The QVI bounds of math note §4.1, recomputed in the outer loop (§4.3): normal [0, ∞),
-/// tangential ±(c_share + μ p_n), with the joint's cohesion shared between its two contacts
-/// by the mobilization-equalizing rule of §4.6.
-struct ContactBounds<'a> {
-    contacts: &'a [Active],
-    share: bool,
-}
-
-impl ContactBounds<'_> {
-    /// τ_k for the iterate z.
-    fn tangential_bound(&self, k: usize, z: &[f64]) -> f64 {
-        let c = &self.contacts[k];
-        let cohesion = match (c.partner, self.share) {
-            (Some(l), true) => {
-                cohesion_share(c.cohesion, c.friction, [z[2 * k], z[2 * k + 1]], [z[2 * l], z[2 * l + 1]])
-            }
-            _ => c.cohesion,
-        };
-        c.tangential_bound(z[2 * k], cohesion)
-    }
-}
-
-impl BoundRule for ContactBounds<'_> {
-    fn bounds(&mut self, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
-        for k in 0..self.contacts.len() {
-            lo[2 * k] = 0.0;
-            hi[2 * k] = f64::INFINITY;
-            let tau = self.tangential_bound(k, z);
-            lo[2 * k + 1] = -tau;
-            hi[2 * k + 1] = tau;
-        }
-    }
-}
-
-/// Share c1 of a joint's cohesion c for contact 1 with forces `p1 = (p_n, p_t)`, partner `p2`
-/// (math note §4.6): both contacts at the same mobilization |p_t|/(c_i + μ p_n);
-/// equal split when neither carries shear.
-fn cohesion_share(c: f64, mu: f64, p1: [f64; 2], p2: [f64; 2]) -> f64 {
-    let (t1, t2) = (p1[1].abs(), p2[1].abs());
-    if t1 + t2 <= 0.0 {
-        return 0.5 * c;
-    }
-    let (n1, n2) = (p1[0].max(0.0), p2[0].max(0.0));
-    ((t1 * (c + mu * n2) - mu * n1 * t2) / (t1 + t2)).clamp(0.0, c)
 }
 
 /// Point-load force at time t.

@@ -7,6 +7,7 @@ pub mod broad;
 mod joint;
 pub mod narrow;
 mod particle;
+pub mod law;
 pub mod set;
 #[cfg(test)]
 mod testkit;

@@ -8,10 +8,12 @@ use std::collections::HashMap;
 /// What a contact carries over to the next step (warm start and "was closed" memory).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Memory {
-    /// Normal and tangential force of the last step.
-    pub force: [f64; 2],
-    /// Closed (p_n > 0) at the end of the last step.
+    /// Normal force, tangential force and rolling couple of the last step.
+    pub force: [f64; 3],
+    /// Closed at the end of the last step.
     pub closed: bool,
+    /// An intact cemented joint (math note §4.5): created at t = 0, lost when it breaks.
+    pub bonded: bool,
 }
 
 /// Memory of all contacts of the last step, by persistent key.

@@ -98,6 +98,9 @@ impl CsvWriter {
         for w in &rec.warnings {
             writeln!(self.log, "warning: {w}")?;
         }
+        for e in &rec.events {
+            writeln!(self.log, "event: {e}")?;
+        }
         if s % self.every == 0 || s == self.last_step {
             self.write_state(world, rec)?;
         }
@@ -111,13 +114,20 @@ impl CsvWriter {
         let (s, t) = (rec.step, rec.time);
         for b in &world.bodies {
             let (c, v) = (b.centroid, b.velocity);
-            writeln!(self.bodies, "{s},{t},{},{},{},{},{},{},{},,,,,,", b.name, c.x, c.y, b.rotation, v[0], v[1], v[2])?;
+            write!(self.bodies, "{s},{t},{},{},{},{},{},{},{}", b.name, c.x, c.y, b.rotation, v[0], v[1], v[2])?;
+            if b.deformable {
+                let (e, sg) = (b.strain, b.stress);
+                writeln!(self.bodies, ",{},{},{},{},{},{}", e[0], e[1], e[2], sg[0], sg[1], sg[2])?;
+            } else {
+                writeln!(self.bodies, ",,,,,,")?;
+            }
         }
         for c in &rec.contacts {
             let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
+            let rolling = c.rolling_moment.map_or(String::new(), |m| m.to_string());
             writeln!(
                 self.contacts,
-                "{s},{t},{a},{b},{},{},{},{},{},{},{},,{},{}",
+                "{s},{t},{a},{b},{},{},{},{},{},{},{},{rolling},{},{}",
                 c.kind.as_str(),
                 c.point.x,
                 c.point.y,

@@ -1,0 +1,146 @@
+//! The contact law as box bounds of the VI (math note §4.1), recomputed from the current
+//! forces in the outer compatibility loop (§4.3): normal [0, ∞) or [−t_share, ∞) for an intact
+//! cemented joint (§4.5); tangential ±(c_share + μ p_n) (paper eq. 19, §4.6); rolling
+//! ±δ p_n (§4.4). Shares of a joint's cohesion and tensile strength between its two adjoint
+//! contacts follow the mobilization-equalizing rules of §4.5–4.6.
+
+use crate::vi::BoundRule;
+
+/// One contact's law and row layout, as the bound rule sees it.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Law {
+    /// First VI row of the contact: normal; +1 tangential; +2 rolling if `rolling > 0`.
+    pub row: usize,
+    /// Coulomb coefficient μ.
+    pub friction: f64,
+    /// Cohesive capacity of the contact's joint [N] (stress × overlap length).
+    pub cohesion: f64,
+    /// Tensile capacity of the joint [N] while bonded (stress × overlap length).
+    pub tensile: f64,
+    /// Rolling friction length δ [m]; 0: no rolling row.
+    pub rolling: f64,
+    /// Intact cemented joint.
+    pub bonded: bool,
+    /// The other contact of the joint, if both ends exist.
+    pub partner: Option<usize>,
+}
+
+impl Law {
+    /// Number of VI rows of the contact.
+    pub fn rows(&self) -> usize {
+        if self.rolling > 0.0 { 3 } else { 2 }
+    }
+}
+
+/// The QVI bounds of all contacts of a step.
+pub struct ContactBounds<'a> {
+    pub laws: &'a [Law],
+    /// Share a joint's cohesion between its contacts (off: each gets all of it, DDA-d).
+    pub share_cohesion: bool,
+}
+
+impl ContactBounds<'_> {
+    fn forces(&self, k: usize, z: &[f64]) -> [f64; 2] {
+        let r = self.laws[k].row;
+        [z[r], z[r + 1]]
+    }
+
+    /// Tensile bound t_k of contact k for the iterate z (0 unless bonded).
+    pub fn tensile_bound(&self, k: usize, z: &[f64]) -> f64 {
+        let law = &self.laws[k];
+        if !law.bonded {
+            return 0.0;
+        }
+        match law.partner {
+            Some(l) => tensile_share(law.tensile, self.forces(k, z)[0], self.forces(l, z)[0]),
+            None => law.tensile,
+        }
+    }
+
+    /// Tangential bound τ_k of contact k for the iterate z. Cohesion acts on a closed or
+    /// bonded contact only.
+    pub fn tangential_bound(&self, k: usize, z: &[f64]) -> f64 {
+        let law = &self.laws[k];
+        let pn = self.forces(k, z)[0];
+        if pn <= 0.0 && !law.bonded {
+            return 0.0;
+        }
+        let cohesion = match (law.partner, self.share_cohesion) {
+            (Some(l), true) => cohesion_share(law.cohesion, law.friction, self.forces(k, z), self.forces(l, z)),
+            _ => law.cohesion,
+        };
+        cohesion + law.friction * pn.max(0.0)
+    }
+}
+
+impl BoundRule for ContactBounds<'_> {
+    fn bounds(&mut self, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        for (k, law) in self.laws.iter().enumerate() {
+            let r = law.row;
+            lo[r] = -self.tensile_bound(k, z);
+            hi[r] = f64::INFINITY;
+            let tau = self.tangential_bound(k, z);
+            lo[r + 1] = -tau;
+            hi[r + 1] = tau;
+            if law.rolling > 0.0 {
+                let m = law.rolling * z[r].max(0.0);
+                lo[r + 2] = -m;
+                hi[r + 2] = m;
+            }
+        }
+    }
+}
+
+/// Share c1 of a joint's cohesion c for contact 1 with forces `p1 = (p_n, p_t)`, partner `p2`
+/// (math note §4.6): both contacts at the same mobilization |p_t|/(c_i + μ p_n); equal split
+/// when neither carries shear.
+pub fn cohesion_share(c: f64, mu: f64, p1: [f64; 2], p2: [f64; 2]) -> f64 {
+    let (t1, t2) = (p1[1].abs(), p2[1].abs());
+    if t1 + t2 <= 0.0 {
+        return 0.5 * c;
+    }
+    let (n1, n2) = (p1[0].max(0.0), p2[0].max(0.0));
+    ((t1 * (c + mu * n2) - mu * n1 * t2) / (t1 + t2)).clamp(0.0, c)
+}
+
+/// Share t1 of a joint's tensile strength t for contact 1 with normal force `p1`, partner
+/// `p2` (math note §4.5, the paper's k_t): proportional to the tensions max(−p_n, 0); equal
+/// split when neither is in tension.
+pub fn tensile_share(t: f64, p1: f64, p2: f64) -> f64 {
+    let (a, b) = ((-p1).max(0.0), (-p2).max(0.0));
+    if a + b <= 0.0 { 0.5 * t } else { t * a / (a + b) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Math note §4.6, μ = 0: c1/c2 = |p1t|/|p2t|; shares always add up to c.
+    #[test]
+    fn cohesion_shares_follow_shear_ratio() {
+        let c1 = cohesion_share(400.0, 0.0, [4600.0, -100.0], [5400.0, -300.0]);
+        assert!((c1 - 100.0).abs() < 1e-12);
+        let c2 = cohesion_share(400.0, 0.0, [5400.0, -300.0], [4600.0, -100.0]);
+        assert!((c1 + c2 - 400.0).abs() < 1e-12);
+        assert_eq!(cohesion_share(400.0, 0.5, [1.0, 0.0], [1.0, 0.0]), 200.0);
+    }
+
+    /// With friction the shares equalize |p_t|/(c_i + μ p_n): check the mobilization ratio.
+    #[test]
+    fn cohesion_shares_equalize_mobilization() {
+        let (c, mu, p1, p2) = (400.0, 0.3, [1000.0, 250.0], [3000.0, 900.0]);
+        let c1 = cohesion_share(c, mu, p1, p2);
+        let c2 = c - c1;
+        let m1 = p1[1] / (c1 + mu * p1[0]);
+        let m2 = p2[1] / (c2 + mu * p2[0]);
+        assert!((m1 - m2).abs() < 1e-12, "{m1} vs {m2}");
+    }
+
+    /// Math note §4.5 / paper eqs. 70–73: t1 = t |p1|/(|p1| + |p2|) on the tensile parts.
+    #[test]
+    fn tensile_shares_follow_tensions() {
+        assert_eq!(tensile_share(2000.0, -750.0, -250.0), 1500.0);
+        assert_eq!(tensile_share(2000.0, -1000.0, 10.0), 2000.0);
+        assert_eq!(tensile_share(2000.0, 5.0, 10.0), 1000.0);
+    }
+}
