@@ -208,7 +208,7 @@ impl World {
         let contacts = self.detect(&df);
         let (jac, q) = self.flexibility(&contacts, &df);
         let w = jac.operator(&self.flex);
-        let solved = self.solve(&contacts, &w, &q);
+        let solved = self.solve(&contacts, &jac, &df, &w, &q);
         let (dbar, dvel) = self.split_displacements(&jac, &df, &solved);
         let bad: Vec<String> = (0..self.bodies.len())
             .filter(|&b| !is_finite(&dbar[b]) || !is_finite(&dvel[b]))
@@ -340,9 +340,11 @@ impl World {
         (jac, q)
     }
 
-    /// Stage 4: solve 1 with g0 in the gaps (geometry), solve 2 with g0 = 0 for the contacts
-    /// closed in solve 1 (velocity), skipped when those g0 are all zero (math note §1.3 a, d).
-    fn solve(&self, contacts: &[Active], w: &sprs::CsMat<f64>, q: &[f64]) -> Solved {
+    /// Stage 4: solve 1 with g0 in the gaps (geometry), refined until the end-of-step gaps of
+    /// the true geometry agree with the linearized ones; then solve 2 with g0 = 0 for the
+    /// contacts closed in solve 1 (velocity), skipped when those g0 are all zero (math note
+    /// §1.3 a, d).
+    fn solve(&self, contacts: &[Active], jac: &Jacobian, df: &[Dofs], w: &sprs::CsMat<f64>, q: &[f64]) -> Solved {
         let opts = vi::Options {
             tolerance: self.model.solver.tolerance,
             max_iterations: self.model.solver.max_iterations,
@@ -357,48 +359,106 @@ impl World {
             let warm = c.memory.map_or([0.0; 3], |m| m.force);
             z1[c.law.row..c.law.row + n].copy_from_slice(&warm[..n]);
         }
-        let mut report = vi::solve(&Problem { w, q }, &mut rule, &mut z1, &opts);
-        let mut warnings = Vec::new();
         let step = self.step_index + 1;
-        let mut note = |r: &vi::Report, which: &str| {
+        let mut report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
+        let mut warnings = Vec::new();
+        let mut run = |q: &[f64], z: &mut [f64], which: &str| {
+            let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
             if !r.converged {
                 warnings.push(format!(
                     "step {step}: contact solver ({which}) did not converge: residual {:.3e} after {} iterations",
                     r.residual, r.inner_iterations
                 ));
             }
+            report.outer_iterations += r.outer_iterations;
+            report.inner_iterations += r.inner_iterations;
+            report.residual = report.residual.max(r.residual);
+            report.converged &= r.converged;
         };
-        note(&report, "solve 1");
-        let closed: Vec<bool> = contacts.iter().map(|c| c.law.bonded || z1[c.law.row] > 0.0).collect();
+        let mut q1 = q.to_vec();
+        run(&q1, &mut z1, "solve 1");
+        let mut state = self.classify(contacts, w, &q1, &z1);
+        for _ in 0..MAX_REFINEMENTS {
+            let dbar = geometry_increment(jac, &self.flex, df, &z1, &state.impacting_rows);
+            let corrections = self.end_gap_corrections(contacts, &dbar, &state);
+            if corrections.iter().all(|(_, c)| c.abs() <= 1e-9 * self.threshold) {
+                break;
+            }
+            for (row, c) in corrections {
+                q1[row] += c;
+            }
+            run(&q1, &mut z1, "solve 1, refined");
+            state = self.classify(contacts, w, &q1, &z1);
+        }
         let zero_g0 = 1e-12 * self.threshold;
-        let needs_second = contacts.iter().zip(&closed).any(|(c, &cl)| cl && c.geom.g0.abs() > zero_g0);
-        let z2 = if needs_second {
-            let mut q2 = q.to_vec();
-            for (c, &cl) in contacts.iter().zip(&closed) {
+        let needs_second = contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.geom.g0.abs() > zero_g0);
+        let mut z2 = z1.clone();
+        if needs_second {
+            let mut q2 = q1.clone();
+            for (c, &cl) in contacts.iter().zip(&state.closed) {
                 if cl {
                     q2[c.law.row] -= c.geom.g0;
                 }
             }
-            let mut z2 = z1.clone();
-            let r2 = vi::solve(&Problem { w, q: &q2 }, &mut rule, &mut z2, &opts);
-            note(&r2, "solve 2");
-            report.outer_iterations += r2.outer_iterations;
-            report.inner_iterations += r2.inner_iterations;
-            report.residual = report.residual.max(r2.residual);
-            report.converged &= r2.converged;
-            z2
-        } else {
-            z1.clone()
-        };
+            run(&q2, &mut z2, "solve 2");
+        }
+        let Classified { gaps, closed, impacting_rows } = state;
+        Solved { z1, z2, gaps, closed, impacting_rows, report, warnings }
+    }
+
+    /// End-of-step gaps G = q + W z, which contacts are closed (bonded, loaded, or touching at
+    /// the end of the step to within 1e-9 d0), and the rows of impacting contacts.
+    fn classify(&self, contacts: &[Active], w: &sprs::CsMat<f64>, q: &[f64], z: &[f64]) -> Classified {
         let mut gaps = q.to_vec();
-        sprs::prod::mul_acc_mat_vec_csr(w.view(), &z1[..], &mut gaps[..]);
+        sprs::prod::mul_acc_mat_vec_csr(w.view(), z, &mut gaps[..]);
+        let touching = 1e-9 * self.threshold;
+        let closed: Vec<bool> = contacts
+            .iter()
+            .map(|c| c.law.bonded || z[c.law.row] > 0.0 || gaps[c.law.row] <= touching)
+            .collect();
         let mut impacting_rows = vec![false; q.len()];
         for (c, &cl) in contacts.iter().zip(&closed) {
             if cl && self.is_impacting(c) {
                 impacting_rows[c.law.row..c.law.row + c.law.rows()].fill(true);
             }
         }
-        Solved { z1, z2, gaps, closed, impacting_rows, report, warnings }
+        Classified { gaps, closed, impacting_rows }
+    }
+
+    /// The linearized gaps (3.1) are exact for flat contacts only: a disk moving along a
+    /// curved surface by v dt penetrates by about (v dt)²/(2 ρ) per step, and correcting that
+    /// penetration on the next step through g0 feeds energy into the system. So for every
+    /// persistent (non-impacting) contact that ends the step closed or nearly closed, the gap
+    /// is measured again on the true end-of-step geometry and the difference to the
+    /// linearized gap is returned as a correction of q (a fixed-point iteration on the
+    /// contact constraints with the Jacobian of the step start).
+    fn end_gap_corrections(&self, contacts: &[Active], dbar: &[Dofs], state: &Classified) -> Vec<(usize, f64)> {
+        let near = 0.1 * self.threshold;
+        let watched: Vec<&Active> = contacts
+            .iter()
+            .filter(|c| !state.impacting_rows[c.law.row] && state.gaps[c.law.row] < near)
+            .collect();
+        let mut moved: std::collections::HashMap<usize, crate::contact::BodyShape> = Default::default();
+        for c in &watched {
+            for b in [c.geom.a, c.geom.b] {
+                moved.entry(b).or_insert_with(|| {
+                    let mut body = self.bodies[b].clone();
+                    body.apply_increment(&dbar[b]);
+                    body.shape()
+                });
+            }
+        }
+        let mut found = Vec::new();
+        watched
+            .into_iter()
+            .filter_map(|c| {
+                let (i, j) = (c.geom.a.min(c.geom.b), c.geom.a.max(c.geom.b));
+                found.clear();
+                crate::contact::narrow::pair_contacts(i, j, &moved[&i], &moved[&j], self.threshold, &mut found);
+                let end = found.iter().find(|g| g.key == c.geom.key)?;
+                Some((c.law.row, end.g0 - state.gaps[c.law.row]))
+            })
+            .collect()
     }
 
     /// Math note §1.3 (b): not closed at the end of the last step and approaching at the
@@ -419,11 +479,8 @@ impl World {
     /// Math note §1.3 (c, d): dbar = d + K⁻¹ C_imp p1_imp for the geometry (only impacting
     /// contacts' share doubled), d_vel = d^f + K⁻¹ C p2 for the velocity.
     fn split_displacements(&self, jac: &Jacobian, df: &[Dofs], s: &Solved) -> (Vec<Dofs>, Vec<Dofs>) {
-        let all = |_: usize| true;
-        let dp1 = jac.response(&self.flex, &s.z1, all);
-        let dimp = jac.response(&self.flex, &s.z1, |r| s.impacting_rows[r]);
-        let dp2 = jac.response(&self.flex, &s.z2, all);
-        let dbar = (0..df.len()).map(|b| df[b] + dp1[b] + dimp[b]).collect();
+        let dbar = geometry_increment(jac, &self.flex, df, &s.z1, &s.impacting_rows);
+        let dp2 = jac.response(&self.flex, &s.z2, |_| true);
         let dvel = (0..df.len()).map(|b| df[b] + dp2[b]).collect();
         (dbar, dvel)
     }
@@ -538,6 +595,25 @@ impl World {
             })
             .collect()
     }
+}
+
+/// Refinements of solve 1 against the true end-of-step geometry (see
+/// [`World::end_gap_corrections`]); the fixed point is reached in one or two.
+const MAX_REFINEMENTS: usize = 4;
+
+/// dbar = d^f + K⁻¹ Bᵀ z + K⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
+/// contacts' share doubled (math note §1.3 c).
+fn geometry_increment(jac: &Jacobian, flex: &Flexibility, df: &[Dofs], z: &[f64], impacting: &[bool]) -> Vec<Dofs> {
+    let dp = jac.response(flex, z, |_| true);
+    let dimp = jac.response(flex, z, |r| impacting[r]);
+    (0..df.len()).map(|b| df[b] + dp[b] + dimp[b]).collect()
+}
+
+/// Contact states after a solve 1.
+struct Classified {
+    gaps: Vec<f64>,
+    closed: Vec<bool>,
+    impacting_rows: Vec<bool>,
 }
 
 /// Result of stage 4.
