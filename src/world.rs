@@ -131,11 +131,18 @@ pub struct World {
     broken: HashSet<ContactKey>,
 }
 
-/// A contact as the solve stage sees it: geometry, law and memory.
+/// A contact as the solve stage sees it: geometry, law, memory and the linearization of its
+/// gap.
 struct Active {
     geom: ContactGeom,
     law: Law,
     memory: Option<Memory>,
+    /// The gap is linearized as `offset + Σ_b s_b nᵀ T_b(anchor_b) d_b` (math note §3.1 with
+    /// offset = g0, anchors = contact point), until [`World::refine`] moves it to the mid-step
+    /// configuration.
+    normal: Vec2,
+    anchor: [Vec2; 2],
+    offset: f64,
 }
 
 impl World {
@@ -205,11 +212,9 @@ impl World {
         let step = self.step_index + 1;
         let t1 = self.time + dt;
         let df = self.predict(t1);
-        let contacts = self.detect(&df);
-        let (jac, q) = self.flexibility(&contacts, &df);
-        let w = jac.operator(&self.flex);
-        let solved = self.solve(&contacts, &jac, &df, &w, &q);
-        let (dbar, dvel) = self.split_displacements(&jac, &df, &solved);
+        let mut contacts = self.detect(&df);
+        let solved = self.solve(&mut contacts, &df);
+        let (dbar, dvel) = self.split_displacements(&solved.jac, &df, &solved);
         let bad: Vec<String> = (0..self.bodies.len())
             .filter(|&b| !is_finite(&dbar[b]) || !is_finite(&dvel[b]))
             .map(|b| self.bodies[b].name.clone())
@@ -285,7 +290,7 @@ impl World {
                 let memory = self.memory.get(&geom.key).copied();
                 let law = self.law(&geom, partner, memory, row);
                 row += law.rows();
-                Active { geom, law, memory }
+                Active { normal: geom.normal, anchor: [geom.point; 2], offset: geom.g0, geom, law, memory }
             })
             .collect()
     }
@@ -317,8 +322,8 @@ impl World {
         let rows = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
         let mut jac = Jacobian::new(self.bodies.len(), rows);
         for c in contacts {
-            let (n, tau, x, r) = (c.geom.normal, cw(c.geom.normal), c.geom.point, c.law.row);
-            for (body, sign) in [(c.geom.a, 1.0), (c.geom.b, -1.0)] {
+            let (n, tau, r) = (c.normal, cw(c.normal), c.law.row);
+            for ((body, sign), x) in [(c.geom.a, 1.0), (c.geom.b, -1.0)].into_iter().zip(c.anchor) {
                 let b = &self.bodies[body];
                 if b.fixed {
                     continue;
@@ -335,16 +340,15 @@ impl World {
         }
         let mut q = jac.apply(df);
         for c in contacts {
-            q[c.law.row] += c.geom.g0;
+            q[c.law.row] += c.offset;
         }
         (jac, q)
     }
 
-    /// Stage 4: solve 1 with g0 in the gaps (geometry), refined until the end-of-step gaps of
-    /// the true geometry agree with the linearized ones; then solve 2 with g0 = 0 for the
-    /// contacts closed in solve 1 (velocity), skipped when those g0 are all zero (math note
-    /// §1.3 a, d).
-    fn solve(&self, contacts: &[Active], jac: &Jacobian, df: &[Dofs], w: &sprs::CsMat<f64>, q: &[f64]) -> Solved {
+    /// Stages 3 and 4: solve 1 with g0 in the gaps (geometry), refined on the mid-step
+    /// configuration (see [`Self::refine`]); then solve 2 with g0 = 0 for the contacts closed
+    /// in solve 1 (velocity), skipped when those g0 are all zero (math note §1.3 a, d).
+    fn solve(&self, contacts: &mut [Active], df: &[Dofs]) -> Solved {
         let opts = vi::Options {
             tolerance: self.model.solver.tolerance,
             max_iterations: self.model.solver.max_iterations,
@@ -353,8 +357,8 @@ impl World {
         };
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
         let mut rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
-        let mut z1 = vec![0.0; q.len()];
-        for c in contacts {
+        let mut z1 = vec![0.0; laws.last().map_or(0, |l| l.row + l.rows())];
+        for c in contacts.iter() {
             let n = c.law.rows();
             let warm = c.memory.map_or([0.0; 3], |m| m.force);
             z1[c.law.row..c.law.row + n].copy_from_slice(&warm[..n]);
@@ -362,7 +366,7 @@ impl World {
         let step = self.step_index + 1;
         let mut report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         let mut warnings = Vec::new();
-        let mut run = |q: &[f64], z: &mut [f64], which: &str| {
+        let mut run = |w: &sprs::CsMat<f64>, q: &[f64], z: &mut [f64], which: &str| {
             let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
             if !r.converged {
                 warnings.push(format!(
@@ -375,35 +379,35 @@ impl World {
             report.residual = report.residual.max(r.residual);
             report.converged &= r.converged;
         };
-        let mut q1 = q.to_vec();
-        run(&q1, &mut z1, "solve 1");
-        let mut state = self.classify(contacts, w, &q1, &z1);
-        for _ in 0..MAX_REFINEMENTS {
-            let dbar = geometry_increment(jac, &self.flex, df, &z1, &state.impacting_rows);
-            let corrections = self.end_gap_corrections(contacts, &dbar, &state);
-            if corrections.iter().all(|(_, c)| c.abs() <= 1e-9 * self.threshold) {
-                break;
+        let mut refinements = 0;
+        let (jac, w, q, state) = loop {
+            let (jac, q) = self.flexibility(contacts, df);
+            let w = jac.operator(&self.flex);
+            run(&w, &q, &mut z1, if refinements == 0 { "solve 1" } else { "solve 1, refined" });
+            let state = self.classify(contacts, &w, &q, &z1);
+            if refinements == MAX_REFINEMENTS {
+                break (jac, w, q, state);
             }
-            for (row, c) in corrections {
-                q1[row] += c;
+            let dbar = geometry_increment(&jac, &self.flex, df, &z1, &state.impacting_rows);
+            if !self.refine(contacts, &dbar, &state) {
+                break (jac, w, q, state);
             }
-            run(&q1, &mut z1, "solve 1, refined");
-            state = self.classify(contacts, w, &q1, &z1);
-        }
+            refinements += 1;
+        };
         let zero_g0 = 1e-12 * self.threshold;
         let needs_second = contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.geom.g0.abs() > zero_g0);
         let mut z2 = z1.clone();
         if needs_second {
-            let mut q2 = q1.clone();
+            let mut q2 = q.clone();
             for (c, &cl) in contacts.iter().zip(&state.closed) {
                 if cl {
                     q2[c.law.row] -= c.geom.g0;
                 }
             }
-            run(&q2, &mut z2, "solve 2");
+            run(&w, &q2, &mut z2, "solve 2");
         }
         let Classified { gaps, closed, impacting_rows } = state;
-        Solved { z1, z2, gaps, closed, impacting_rows, report, warnings }
+        Solved { jac, z1, z2, gaps, closed, impacting_rows, report, warnings }
     }
 
     /// End-of-step gaps G = q + W z, which contacts are closed (bonded, loaded, or touching at
@@ -425,40 +429,84 @@ impl World {
         Classified { gaps, closed, impacting_rows }
     }
 
-    /// The linearized gaps (3.1) are exact for flat contacts only: a disk moving along a
-    /// curved surface by v dt penetrates by about (v dt)²/(2 ρ) per step, and correcting that
-    /// penetration on the next step through g0 feeds energy into the system. So for every
-    /// persistent (non-impacting) contact that ends the step closed or nearly closed, the gap
-    /// is measured again on the true end-of-step geometry and the difference to the
-    /// linearized gap is returned as a correction of q (a fixed-point iteration on the
-    /// contact constraints with the Jacobian of the step start).
-    fn end_gap_corrections(&self, contacts: &[Active], dbar: &[Dofs], state: &Classified) -> Vec<(usize, f64)> {
+    /// Moves the linearization of the persistent contacts to the mid-step configuration.
+    ///
+    /// The gap of math note (3.1) is linearized at the step start, which is exact for flat
+    /// contacts only: a disk sliding along a curved surface by v dt penetrates by about
+    /// (v dt)²/(2ρ), and the normal force, acting along the start normal, does work on the
+    /// chord. Both feed energy into the system (the disk in a ring, paper §7.5, climbs
+    /// higher every swing). For each persistent (non-impacting) contact that ends the trial
+    /// step closed or nearly so, this takes the normal n and the body points from the
+    /// configuration half-way through the trial increment `dbar`, and the offset so that the
+    /// linearized gap equals the true gap of the end configuration. At the fixed point the
+    /// contact force is orthogonal to the relative chord (it does no work, as the midpoint
+    /// rule wants) and the true end-of-step gap is met exactly. Returns whether any contact
+    /// changed by more than 1e-9 d0 (in gap terms).
+    fn refine(&self, contacts: &mut [Active], dbar: &[Dofs], state: &Classified) -> bool {
         let near = 0.1 * self.threshold;
-        let watched: Vec<&Active> = contacts
-            .iter()
-            .filter(|c| !state.impacting_rows[c.law.row] && state.gaps[c.law.row] < near)
+        let watched: Vec<usize> = (0..contacts.len())
+            .filter(|&k| !state.impacting_rows[contacts[k].law.row] && state.gaps[contacts[k].law.row] < near)
             .collect();
-        let mut moved: std::collections::HashMap<usize, crate::contact::BodyShape> = Default::default();
-        for c in &watched {
-            for b in [c.geom.a, c.geom.b] {
-                moved.entry(b).or_insert_with(|| {
-                    let mut body = self.bodies[b].clone();
-                    body.apply_increment(&dbar[b]);
-                    body.shape()
-                });
+        let half: Vec<Dofs> = dbar.iter().map(|d| d * 0.5).collect();
+        let mut mid = std::collections::HashMap::new();
+        let mut end = std::collections::HashMap::new();
+        for &k in &watched {
+            for b in [contacts[k].geom.a, contacts[k].geom.b] {
+                mid.entry(b).or_insert_with(|| self.moved_shape(b, &half[b]));
+                end.entry(b).or_insert_with(|| self.moved_shape(b, &dbar[b]));
             }
         }
+        let mut changed = false;
         let mut found = Vec::new();
-        watched
-            .into_iter()
-            .filter_map(|c| {
-                let (i, j) = (c.geom.a.min(c.geom.b), c.geom.a.max(c.geom.b));
-                found.clear();
-                crate::contact::narrow::pair_contacts(i, j, &moved[&i], &moved[&j], self.threshold, &mut found);
-                let end = found.iter().find(|g| g.key == c.geom.key)?;
-                Some((c.law.row, end.g0 - state.gaps[c.law.row]))
-            })
-            .collect()
+        for k in watched {
+            let c = &mut contacts[k];
+            let (a, b) = (c.geom.a, c.geom.b);
+            let (Some(m), Some(e)) = (
+                self.same_contact(c.geom.key, &mid[&a], &mid[&b], a, b, &mut found),
+                self.same_contact(c.geom.key, &end[&a], &end[&b], a, b, &mut found),
+            ) else {
+                continue;
+            };
+            let anchor = [m.point - translation(&half[a]), m.point - translation(&half[b])];
+            let linear: f64 = [(a, 1.0), (b, -1.0)]
+                .iter()
+                .zip(anchor)
+                .map(|(&(body, s), x)| s * self.bodies[body].shape_row(x, m.normal).dot(&dbar[body]))
+                .sum();
+            let offset = e.g0 - linear;
+            let reach = self.bodies[a].max_displacement(&dbar[a]) + self.bodies[b].max_displacement(&dbar[b]);
+            let change = (offset - c.offset).abs() + (m.normal - c.normal).norm() * reach;
+            changed |= change > 1e-9 * self.threshold;
+            c.normal = m.normal;
+            c.anchor = anchor;
+            c.offset = offset;
+        }
+        changed
+    }
+
+    fn moved_shape(&self, b: usize, d: &Dofs) -> crate::contact::BodyShape {
+        let mut body = self.bodies[b].clone();
+        body.apply_increment(d);
+        body.shape()
+    }
+
+    /// The contact with `key` between bodies `a` and `b` in the given shapes, if any.
+    fn same_contact(
+        &self,
+        key: ContactKey,
+        sa: &crate::contact::BodyShape,
+        sb: &crate::contact::BodyShape,
+        a: usize,
+        b: usize,
+        found: &mut Vec<ContactGeom>,
+    ) -> Option<ContactGeom> {
+        found.clear();
+        if a < b {
+            crate::contact::narrow::pair_contacts(a, b, sa, sb, self.threshold, found);
+        } else {
+            crate::contact::narrow::pair_contacts(b, a, sb, sa, self.threshold, found);
+        }
+        found.iter().find(|g| g.key == key).cloned()
     }
 
     /// Math note §1.3 (b): not closed at the end of the last step and approaching at the
@@ -597,9 +645,14 @@ impl World {
     }
 }
 
-/// Refinements of solve 1 against the true end-of-step geometry (see
-/// [`World::end_gap_corrections`]); the fixed point is reached in one or two.
+/// Refinements of solve 1 on the mid-step configuration (see [`World::refine`]); the fixed
+/// point is reached in two or three.
 const MAX_REFINEMENTS: usize = 4;
+
+/// Translation (u0, v0) of the centroid under the increment `d`.
+fn translation(d: &Dofs) -> Vec2 {
+    Vec2::new(d[0], d[1])
+}
 
 /// dbar = d^f + K⁻¹ Bᵀ z + K⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
 /// contacts' share doubled (math note §1.3 c).
@@ -618,6 +671,8 @@ struct Classified {
 
 /// Result of stage 4.
 struct Solved {
+    /// The contact Jacobian the forces belong to.
+    jac: Jacobian,
     /// Forces of solve 1 (geometry).
     z1: Vec<f64>,
     /// Forces of solve 2 (velocity; reported).
