@@ -210,7 +210,8 @@ impl World {
         let started = Instant::now();
         let dt = self.dt();
         let step = self.step_index + 1;
-        let t1 = self.time + dt;
+        // time as step × dt, not accumulated, so that t is exact at step boundaries
+        let t1 = step as f64 * dt;
         let df = self.predict(t1);
         let mut contacts = self.detect(&df);
         let solved = self.solve(&mut contacts, &df);

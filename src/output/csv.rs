@@ -22,6 +22,18 @@ fn io_err(path: &Path) -> impl FnOnce(io::Error) -> OutputError + '_ {
     move |source| OutputError::Io { path: path.to_path_buf(), source }
 }
 
+/// A number as CSV text: shortest round-trip form, with an exponent for very small or very
+/// large magnitudes (`1e-28` rather than 28 zeros), and no negative zero.
+pub struct Num(pub f64);
+
+impl std::fmt::Display for Num {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0 + 0.0;
+        let a = x.abs();
+        if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) { write!(f, "{x:e}") } else { write!(f, "{x}") }
+    }
+}
+
 /// Writers for one run.
 pub struct CsvWriter {
     dir: PathBuf,
@@ -83,17 +95,17 @@ impl CsvWriter {
     }
 
     fn write_step_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
-        let (s, t) = (rec.step, rec.time);
+        let (s, t) = (rec.step, Num(rec.time));
         writeln!(
             self.steps,
             "{s},{t},{},{},{},{},{},{},{}",
-            rec.dt,
+            Num(rec.dt),
             rec.contacts.len(),
             rec.outer_iterations,
             rec.inner_iterations,
-            rec.residual,
-            rec.kinetic_energy,
-            rec.wall_seconds
+            Num(rec.residual),
+            Num(rec.kinetic_energy),
+            Num(rec.wall_seconds)
         )?;
         for w in &rec.warnings {
             writeln!(self.log, "warning: {w}")?;
@@ -111,38 +123,42 @@ impl CsvWriter {
     }
 
     fn write_state(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
-        let (s, t) = (rec.step, rec.time);
+        let (s, t) = (rec.step, Num(rec.time));
         for b in &world.bodies {
             let (c, v) = (b.centroid, b.velocity);
-            write!(self.bodies, "{s},{t},{},{},{},{},{},{},{}", b.name, c.x, c.y, b.rotation, v[0], v[1], v[2])?;
+            let (x, y, rot) = (Num(c.x), Num(c.y), Num(b.rotation));
+            write!(self.bodies, "{s},{t},{},{x},{y},{rot},{},{},{}", b.name, Num(v[0]), Num(v[1]), Num(v[2]))?;
             if b.deformable {
-                let (e, sg) = (b.strain, b.stress);
-                writeln!(self.bodies, ",{},{},{},{},{},{}", e[0], e[1], e[2], sg[0], sg[1], sg[2])?;
+                for x in b.strain.iter().chain(b.stress.iter()) {
+                    write!(self.bodies, ",{}", Num(*x))?;
+                }
+                writeln!(self.bodies)?;
             } else {
                 writeln!(self.bodies, ",,,,,,")?;
             }
         }
         for c in &rec.contacts {
             let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
-            let rolling = c.rolling_moment.map_or(String::new(), |m| m.to_string());
+            let rolling = c.rolling_moment.map_or(String::new(), |m| Num(m).to_string());
             writeln!(
                 self.contacts,
                 "{s},{t},{a},{b},{},{},{},{},{},{},{},{rolling},{},{}",
                 c.kind.as_str(),
-                c.point.x,
-                c.point.y,
-                c.normal.x,
-                c.normal.y,
-                c.normal_force,
-                c.shear_force,
-                c.gap,
+                Num(c.point.x),
+                Num(c.point.y),
+                Num(c.normal.x),
+                Num(c.normal.y),
+                Num(c.normal_force),
+                Num(c.shear_force),
+                Num(c.gap),
                 c.state.as_str()
             )?;
         }
         for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
             let body = &world.bodies[p.body];
             let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
-            writeln!(self.monitors, "{s},{t},{},{},{},{},{},{},{}", m.name, p.current.x, p.current.y, u.x, u.y, v.x, v.y)?;
+            let (x, y) = (Num(p.current.x), Num(p.current.y));
+            writeln!(self.monitors, "{s},{t},{},{x},{y},{},{},{},{}", m.name, Num(u.x), Num(u.y), Num(v.x), Num(v.y))?;
         }
         Ok(())
     }
