@@ -1,15 +1,18 @@
-//! One full time step of a settled pile of rigid disks (radius 0.5, density 1, mu 0.6,
-//! dt 1/60) in a box, 1 000 and 10 000 disks, built by `pbdda::generate::DiskPile`.
+//! One full time step of a settled pile of disks (radius 0.5, density 1, mu 0.6, dt 1/60) in a
+//! box, built by `pbdda::generate::DiskPile`: 1 000 and 10 000 rigid disks; 1 000 deformable
+//! disks (4 DOF each); 1 000 rigid disks with rolling resistance (δ = 0.05).
 //! The pile is first stepped a few times so that the measured step is warm-started, as in a
 //! long run. Contacts and PC iterations per step are printed once per size.
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use pbdda::generate::DiskPile;
+use pbdda::model::BodyModel;
 use pbdda::world::World;
 use std::hint::black_box;
 
-fn settled(columns: usize, rows: usize) -> World {
-    let mut world = World::new(DiskPile::benchmark(columns, rows).model());
+fn settled(pile: DiskPile) -> World {
+    let (columns, rows) = (pile.columns, pile.rows);
+    let mut world = World::new(pile.model());
     for _ in 0..5 {
         world.step().expect("pile step");
     }
@@ -24,8 +27,15 @@ fn settled(columns: usize, rows: usize) -> World {
 fn step(c: &mut Criterion) {
     let mut group = c.benchmark_group("step");
     group.sample_size(10);
-    for (name, columns, rows) in [("rigid_disks_1000", 40, 25), ("rigid_disks_10000", 100, 100)] {
-        let world = settled(columns, rows);
+    let deformable = DiskPile { model: BodyModel::Deformable, ..DiskPile::benchmark(40, 25) };
+    let rolling = DiskPile { rolling: 0.05, ..DiskPile::benchmark(40, 25) };
+    for (name, pile) in [
+        ("rigid_disks_1000", DiskPile::benchmark(40, 25)),
+        ("deformable_disks_1000", deformable),
+        ("rolling_disks_1000", rolling),
+        ("rigid_disks_10000", DiskPile::benchmark(100, 100)),
+    ] {
+        let world = settled(pile);
         group.bench_function(name, |b| {
             b.iter_batched(|| world.clone(), |mut w| black_box(w.step().expect("step")), BatchSize::LargeInput)
         });

@@ -15,12 +15,23 @@ pub struct DiskPile {
     pub dt: f64,
     /// Rolling friction length δ for the disk contacts (0: none).
     pub rolling: f64,
+    /// Rigid disks, or deformable ones (E = 1e8 Pa, ν = 0.3).
+    pub model: BodyModel,
 }
 
 impl DiskPile {
     /// The benchmark pile of the issue: radius 0.5, density 1, μ 0.6, dt 1/60.
     pub fn benchmark(columns: usize, rows: usize) -> DiskPile {
-        DiskPile { columns, rows, radius: 0.5, density: 1.0, friction: 0.6, dt: 1.0 / 60.0, rolling: 0.0 }
+        DiskPile {
+            columns,
+            rows,
+            radius: 0.5,
+            density: 1.0,
+            friction: 0.6,
+            dt: 1.0 / 60.0,
+            rolling: 0.0,
+            model: BodyModel::Rigid,
+        }
     }
 
     /// Hexagonal close packing resting on a fixed floor between two fixed walls: every disk
@@ -30,7 +41,8 @@ impl DiskPile {
         let r = self.radius;
         let width = 2.0 * r * self.columns as f64 + r;
         let height = (self.rows as f64 + 1.0) * 2.0 * r;
-        let material = Material { name: "grain".into(), density: self.density, young: None, poisson: None };
+        let material =
+            Material { name: "grain".into(), density: self.density, young: Some(1e8), poisson: Some(0.3) };
         let wall = |name: &str, x0: f64, y0: f64, x1: f64, y1: f64| BodySpec {
             name: name.into(),
             shape: Shape::Polygon {
@@ -56,7 +68,7 @@ impl DiskPile {
                 bodies.push(BodySpec {
                     name: format!("d{row}_{col}"),
                     shape: Shape::Disk { center: Vec2::new(x, y), radius: r },
-                    model: BodyModel::Rigid,
+                    model: self.model,
                     material: 0,
                     fixed: false,
                     velocity: Vec2::zeros(),

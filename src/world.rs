@@ -129,6 +129,12 @@ pub struct World {
     memory: ContactMemory,
     /// Contacts of cemented joints that broke: their cohesion is lost for good (§4.5).
     broken: HashSet<ContactKey>,
+    /// Penetration allowance [m]: ten times the gap accuracy of the last step's solve
+    /// (tolerance × |p|max × max W_jj), at least 1e-9 d0. Rigid bodies in a closed loop of
+    /// contacts (a hexagonal pile) cannot remove tiny penetrations of all loop members at
+    /// once: the VI has no solution and the forces grow along the loop's self-stress. Below
+    /// the allowance a penetration is therefore not corrected (it never grows beyond it).
+    allowance: f64,
 }
 
 /// A contact as the solve stage sees it: geometry, law, memory and the linearization of its
@@ -143,6 +149,9 @@ struct Active {
     normal: Vec2,
     anchor: [Vec2; 2],
     offset: f64,
+    /// g0 as the solver sees it: a penetration shallower than the solver's own gap accuracy
+    /// counts as touching (see [`World::allowance`]).
+    start_gap: f64,
 }
 
 impl World {
@@ -170,6 +179,7 @@ impl World {
             flex,
             memory: ContactMemory::new(),
             broken: HashSet::new(),
+            allowance: 1e-9 * threshold,
         };
         world.cement();
         world
@@ -215,6 +225,7 @@ impl World {
         let df = self.predict(t1);
         let mut contacts = self.detect(&df);
         let solved = self.solve(&mut contacts, &df);
+        self.allowance = self.gap_accuracy(&solved);
         let (dbar, dvel) = self.split_displacements(&solved.jac, &df, &solved);
         let bad: Vec<String> = (0..self.bodies.len())
             .filter(|&b| !is_finite(&dbar[b]) || !is_finite(&dvel[b]))
@@ -291,7 +302,8 @@ impl World {
                 let memory = self.memory.get(&geom.key).copied();
                 let law = self.law(&geom, partner, memory, row);
                 row += law.rows();
-                Active { normal: geom.normal, anchor: [geom.point; 2], offset: geom.g0, geom, law, memory }
+                let start_gap = if geom.g0 < 0.0 && geom.g0 > -self.allowance { 0.0 } else { geom.g0 };
+                Active { normal: geom.normal, anchor: [geom.point; 2], offset: start_gap, start_gap, geom, law, memory }
             })
             .collect()
     }
@@ -369,6 +381,7 @@ impl World {
         let mut warnings = Vec::new();
         let mut run = |w: &sprs::CsMat<f64>, q: &[f64], z: &mut [f64], which: &str| {
             let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
+            if std::env::var("PBDDA_DEBUG").is_ok() { eprintln!("  {which}: {r:?}"); }
             if !r.converged {
                 warnings.push(format!(
                     "step {step}: contact solver ({which}) did not converge: residual {:.3e} after {} iterations",
@@ -396,19 +409,28 @@ impl World {
             refinements += 1;
         };
         let zero_g0 = 1e-12 * self.threshold;
-        let needs_second = contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.geom.g0.abs() > zero_g0);
+        let needs_second = contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.start_gap.abs() > zero_g0);
         let mut z2 = z1.clone();
         if needs_second {
             let mut q2 = q.clone();
             for (c, &cl) in contacts.iter().zip(&state.closed) {
                 if cl {
-                    q2[c.law.row] -= c.geom.g0;
+                    q2[c.law.row] -= c.start_gap;
                 }
             }
             run(&w, &q2, &mut z2, "solve 2");
         }
         let Classified { gaps, closed, impacting_rows } = state;
-        Solved { jac, z1, z2, gaps, closed, impacting_rows, report, warnings }
+        let w_diag_max = w.diag_iter().flatten().fold(0.0f64, |m, x| m.max(*x));
+        Solved { jac, z1, z2, gaps, closed, impacting_rows, report, warnings, w_diag_max }
+    }
+
+    /// Ten times the gap accuracy of a solve: tolerance × max(1, |z|max) × max W_jj (the
+    /// scaled natural residual bounds |G_j| by D_jj res |z|), at least 1e-9 d0.
+    fn gap_accuracy(&self, s: &Solved) -> f64 {
+        let zmax = s.z1.iter().fold(1.0f64, |m, z| m.max(z.abs()));
+        let wmax = s.w_diag_max;
+        (10.0 * self.model.solver.tolerance * zmax * wmax).max(1e-9 * self.threshold)
     }
 
     /// End-of-step gaps G = q + W z, which contacts are closed (bonded, loaded, or touching at
@@ -474,7 +496,8 @@ impl World {
                 .zip(anchor)
                 .map(|(&(body, s), x)| s * self.bodies[body].shape_row(x, m.normal).dot(&dbar[body]))
                 .sum();
-            let offset = e.g0 - linear;
+            // the start gap as the solver sees it, plus what the linearization misses
+            let offset = c.start_gap + (e.g0 - c.geom.g0 - linear);
             let reach = self.bodies[a].max_displacement(&dbar[a]) + self.bodies[b].max_displacement(&dbar[b]);
             let change = (offset - c.offset).abs() + (m.normal - c.normal).norm() * reach;
             changed |= change > 1e-9 * self.threshold;
@@ -686,6 +709,8 @@ struct Solved {
     impacting_rows: Vec<bool>,
     report: vi::Report,
     warnings: Vec<String>,
+    /// Largest diagonal entry of W (gap per unit force).
+    w_diag_max: f64,
 }
 
 /// Point-load force at time t.
