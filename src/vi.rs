@@ -9,48 +9,76 @@
 //!
 //! * **Outer loop** (math note §4.3, compatibility iteration). Pass m asks the
 //!   [`BoundRule`] for the box of the current iterate, clips the iterate into it and runs the
-//!   inner solver from there. It stops at the first pass m >= 1 whose bounds differ from those
-//!   of pass m - 1 by at most `eps_out * max(1, max|finite bound|)` (with `eps_out =
-//!   tolerance`) *and* whose (clipped) iterate already has a scaled natural residual at most
-//!   `tolerance` with these bounds. So a plain VI reports one outer iteration: one PC run,
-//!   then a confirming pass that finds the same bounds.
-//!   [`Report::outer_iterations`] counts PC runs; `max_outer` caps them.
-//! * **Inner solver** (math note §4.2): the self-adaptive projection-contraction (PC) method,
-//!   with nu = 0.9, mu_s = 0.4, gamma = 1.8, beta_0 = 1 / max_j W_jj (1 in Jacobi-scaled
-//!   variables), shrink factor 0.7 min(1, 1/r), enlarge factor 1.5. `W z` is stored, so an
-//!   iteration costs two products with W (one for the trial point, one for the new iterate),
-//!   plus one per rejected trial step.
-//! * **Correction step.** Both variants of §4.2 are implemented ([`Correction`]). The default
-//!   is the extragradient-type step z = P_Ω[z − gamma alpha beta G(zt)]: it keeps the iterate
-//!   feasible, and in the measurements recorded on [`Correction`] it needed fewer W-products
-//!   than the plain contraction step.
+//!   inner solver from there. It stops at the first pass m >= 1 whose bounds differ from
+//!   those of pass m − 1 by at most `eps_out * max(1, max|finite bound|)` (`eps_out =
+//!   tolerance`) *and* whose clipped iterate already has a scaled natural residual of at
+//!   most `tolerance` with these bounds. [`Report::outer_iterations`] counts PC runs (a plain
+//!   VI reports 1: one run, then a confirming pass that finds the same box) and `max_outer`
+//!   caps them. The first PC run goes down to `tolerance`; later runs stop earlier while the
+//!   box still moves ([`Workspace::inexact`], the math note leaves the inner accuracy per
+//!   pass open).
+//! * **Inner solver** (math note §4.2): the self-adaptive projection-contraction (PC)
+//!   method with nu = 0.9, mu_s = 0.4, gamma = 1.8, beta_0 = 1 / max_j W_jj (1 in
+//!   Jacobi-scaled variables), shrink beta ← 0.7 min(1, 1/r) beta, enlarge beta ← 1.5 beta
+//!   when r <= mu_s. `W z` is stored, so an iteration costs two products with W (one for
+//!   the trial point, one for the new iterate) plus one per rejected trial step; each PC
+//!   run adds one product for its starting point. (A single product per iteration is not
+//!   possible: both G(zt) and G(z_new) are needed, at points that are not linear
+//!   combinations of stored products.)
+//! * **Correction step**: both variants of §4.2 exist ([`Correction`]); the default is the
+//!   extragradient-type step z = P_Ω[z − gamma alpha beta G(zt)], which keeps the iterate
+//!   feasible and needed 16-69 % fewer W-products in the measurements quoted there.
 //! * **Residual** (math note §4.3):
-//!   `res = ||z − P_Ω[z − D⁻¹ G(z)]||_inf / max(1, ||z||_inf)`, `D = diag(W)`. It is the inner
-//!   stopping test as well as the reported value. It is evaluated in the unscaled variables
-//!   (`z = D^{-1/2} y`, `D⁻¹ G = D^{-1/2} Ĝ`) from the quantities of the current sweep, so
-//!   the reported residual is the one of the returned `z`, not of a scaled surrogate.
+//!   `res = ||z − P_Ω[z − D⁻¹ G(z)]||_inf / max(1, ||z||_inf)`, `D = diag(W)`. It is the
+//!   inner stopping test (except for the inexact passes above) and the reported value. It is
+//!   evaluated on the unscaled iterate (`z = D^{-1/2} y`, `D⁻¹ G = D^{-1/2} Ĝ`) inside each
+//!   sweep, so the reported residual is that of the returned `z`.
 //! * **Zero diagonals.** A row with `W_jj <= 0` (or non-finite) uses `D_jj = 1` in the
 //!   residual and in the Jacobi scaling. For a PSD W, `W_jj = 0` forces the whole row and
 //!   column to vanish, so `G_j = q_j` is constant: such a row has a solution only if the bound
 //!   that `q_j` pushes toward is finite. This is checked at every pass and reported as
 //!   [`Status::Diverged`] instead of iterating.
-//! * **Jacobi scaling** (`Options::jacobi`): `z = D^{-1/2} y`, so `Ŵ = D^{-1/2} W D^{-1/2}` has
-//!   unit diagonal, `q̂ = D^{-1/2} q` and the bounds become `D^{1/2} lo, D^{1/2} hi` (infinite
-//!   bounds stay infinite). The scaled matrix is built once per call in the [`Workspace`].
+//! * **Jacobi scaling** (`Options::jacobi`): `z = D^{-1/2} y`, so `Ŵ = D^{-1/2} W D^{-1/2}`
+//!   has unit diagonal, `q̂ = D^{-1/2} q` and the bounds become `D^{1/2} lo, D^{1/2} hi`
+//!   (infinite bounds stay infinite). It is not optional in practice when rows involving
+//!   only heavy bodies carry force: with two 1e12-kg bodies in contact (`vi_kkt`,
+//!   `jacobi_needed_for_heavy_heavy_contact`) the scaled solver needs 274 iterations and the
+//!   unscaled one is still at residual 0.74 after 20 000.
+//!
+//! # Performance
+//!
+//! * Per call, W is copied once (scaled values, `u32` column indices: 12 instead of 16 bytes
+//!   per nonzero), about the cost of one product. Nothing is allocated during the
+//!   iterations; [`solve_with`] reuses the buffers of a [`Workspace`].
+//! * Each sweep fuses a product with the vector work of the PC step (residual, projection,
+//!   dot products), so an iteration makes three passes over the rows.
+//! * Mat-vec (micro-benchmark, ~11 nonzeros per row, best of 7): the hand-written CSR loop
+//!   with unchecked column access (indices checked once per call) took 0.5 ns per nonzero
+//!   at 10k-20k rows and 1.0-1.2 ns at 50k-100k (memory-bound);
+//!   `sprs::prod::mul_acc_mat_vec_csr` took 1.4-1.5 ns throughout, the bounds-checked loop
+//!   0.7-1.1 ns. `u32` column indices were within noise of `usize` up to 50k rows and
+//!   5-10 % faster at 100k.
+//! * Rows are processed in blocks of 2 048; blocks run on rayon from
+//!   [`Workspace::parallel_min_rows`] rows (default 20 000). Block partial sums are reduced
+//!   in block order, so serial and parallel results are bit-identical. On the shared
+//!   2-core test machine (another job on one core) rayon gave no measurable gain at
+//!   40k-100k rows (about 0.9-1.0 ns per nonzero either way, `vi_kkt::timing_products`).
 //!
 //! # Failure modes (never a panic)
 //!
-//! The solver returns `converged = false` (and sets [`Workspace::stats`]) when the iteration
-//! or outer cap is reached, when a non-finite value appears, when a bound rule returns
-//! `lo > hi` or NaN, or when the iterates diverge. Divergence test: for a solvable problem
-//! the PC iterates are Fejér-monotone (math note §4.2), hence bounded; they are declared
-//! divergent when `||z||_inf` exceeds `growth * S`, `S = max(1, ||D⁻¹q||_inf, ||z_start||_inf,
-//! max|finite bound|)`, `growth = clamp(1e-2 / tolerance, 1e4, 1e8)`. Because the residual is
-//! relative to `||z||`, a ray `z = t d` along a direction with `W d = 0`, `qᵀd < 0` (e.g. a
-//! particle jammed between two walls closer than its diameter) would eventually pass the
-//! residual test; the growth test fires first whenever the violated gap is at least `1e-2 S`
-//! in force units. On divergence or non-finite values the warm start is restored in `z`
-//! and the reported residual is `+inf`.
+//! `converged = false`, with the reason in [`Workspace::stats`], when the iteration or outer
+//! cap is reached, when a NaN or infinity appears, when the bound rule returns `lo > hi` or
+//! NaN, or when the iterates diverge. Divergence test: for a solvable problem the PC
+//! iterates are Fejér-monotone (math note §4.2), hence bounded; they are declared divergent
+//! when `||z||_inf` exceeds `growth * S`, `S = max(1, ||D⁻¹q||_inf, ||z_start||_inf,
+//! max|finite bound|)`, `growth = clamp(1e-2 / tolerance, 1e4, 1e8)`. The residual is
+//! relative to `||z||`, so a ray `z = t d` with `W d = 0`, `qᵀd < 0` (e.g. a particle jammed
+//! between two walls closer than its diameter) would eventually pass the residual test;
+//! the growth test fires first whenever the violated gap is at least `1e-2 S` in force
+//! units. Rays along which beta grows are caught within a few dozen iterations; a ray that
+//! advances only linearly (beta held back by the bounded part of the problem) uses up
+//! `max_iterations` and ends as [`Status::IterationLimit`]. On divergence or non-finite
+//! values the warm start is restored in `z` and the reported residual is `+inf`.
 //!
 //! # Requirements on the input
 //!
@@ -100,7 +128,12 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Self { tolerance: 1e-8, max_iterations: 200_000, max_outer: 50, jacobi: true }
+        Self {
+            tolerance: 1e-8,
+            max_iterations: 200_000,
+            max_outer: 50,
+            jacobi: true,
+        }
     }
 }
 
@@ -115,17 +148,19 @@ pub struct Report {
 
 /// The correction step of the PC method (math note §4.2).
 ///
-/// Measured (the `correction_comparison` test in `tests/vi_kkt.rs`, tolerance 1e-10, Jacobi
-/// on; W-products summed over each set; "EG" = extragradient, "PC" = contraction):
+/// Measured with Jacobi scaling on (W-products summed over each set; "EG" = extragradient,
+/// "PC" = contraction; `tests/vi_kkt.rs`, tests `correction_comparison` and
+/// `timing_contact_networks`):
 ///
-/// | problem set | EG products | PC products |
-/// |---|---|---|
-/// | 200 random box VIs (`W = B K⁻¹ Bᵀ`, m <= 30, n <= 12) | 370 086 | 446 124 |
-/// | 40 stick/slip Coulomb QVIs (3 contacts, mu = 0.3) | 17 552 | 20 522 |
-/// | random contact network, 10 000 rows (`vi_kkt::timing_random_10k`) | 8 943 | 10 451 |
+/// | problem set | tolerance | EG | PC |
+/// |---|---|---|---|
+/// | 200 random box VIs (`W = B K⁻¹ Bᵀ`, m <= 30, n <= 12) | 1e-10 | 1 124 380 | 1 570 929 |
+/// | 60 three-disk Coulomb QVIs, mu = 0.3 | 1e-10 | 10 718 | 34 248 |
+/// | 9 900-row frictionless contact grid, cold start | 1e-8 | 70 022 | 83 111 |
+/// | same grid, warm start, q perturbed by 1 % | 1e-8 | 49 641 | 59 911 |
 ///
-/// The extragradient-type step was 15-20 % cheaper on all three sets (the math note reports
-/// about 10 %), and it keeps every iterate inside the box, so it is the default.
+/// The extragradient-type step was 16-69 % cheaper on every set (the math note reports
+/// about 10 %) and keeps every iterate inside the box, so it is the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Correction {
     /// z = P_Ω[z − gamma alpha beta G(zt)]: iterates stay feasible.
@@ -272,7 +307,10 @@ impl Workspace {
         let indptr = w.proper_indptr();
         let (indices, data) = (w.indices(), w.data());
         let nnz = indptr[n];
-        assert!(n <= u32::MAX as usize, "vi: too many rows for u32 column indices");
+        assert!(
+            n <= u32::MAX as usize,
+            "vi: too many rows for u32 column indices"
+        );
 
         for v in [
             &mut self.sd,
@@ -317,7 +355,11 @@ impl Workspace {
                 self.zero_rows.push(i);
             }
             let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
-            let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
+            let (sd, sc) = if jacobi {
+                (d.sqrt(), 1.0 / d.sqrt())
+            } else {
+                (1.0, 1.0)
+            };
             self.sd[i] = sd;
             self.sc[i] = sc;
             self.gs[i] = if jacobi { sc } else { 1.0 / d };
@@ -343,9 +385,17 @@ impl Workspace {
             // D⁻¹ q = gs * qs in both modes.
             dq = dq.max((self.gs[i] * self.qs[i]).abs());
             self.z0[i] = z[i];
-            self.y[i] = if z[i].is_finite() { z[i] * self.sd[i] } else { 0.0 };
+            self.y[i] = if z[i].is_finite() {
+                z[i] * self.sd[i]
+            } else {
+                0.0
+            };
         }
-        let beta0 = if max_diag > 0.0 && max_diag.is_finite() { 1.0 / max_diag } else { 1.0 };
+        let beta0 = if max_diag > 0.0 && max_diag.is_finite() {
+            1.0 / max_diag
+        } else {
+            1.0
+        };
         (beta0, dq.max(1.0))
     }
 }
@@ -400,8 +450,11 @@ where
             .enumerate()
             .for_each(|(b, ((a, c), p))| *p = f(b * BLOCK, a, c));
     } else {
-        for (b, ((a, c), p)) in
-            o1.chunks_mut(BLOCK).zip(o2.chunks_mut(BLOCK)).zip(parts.iter_mut()).enumerate()
+        for (b, ((a, c), p)) in o1
+            .chunks_mut(BLOCK)
+            .zip(o2.chunks_mut(BLOCK))
+            .zip(parts.iter_mut())
+            .enumerate()
         {
             *p = f(b * BLOCK, a, c);
         }
@@ -478,15 +531,28 @@ pub fn solve_with(
     assert_eq!(z.len(), n, "vi: z.len() must equal q.len()");
     ws.stats = Stats::default();
     if n == 0 {
-        return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
+        return Report {
+            outer_iterations: 0,
+            inner_iterations: 0,
+            residual: 0.0,
+            converged: true,
+        };
     }
 
     let (beta0, dq) = ws.setup(p.w, p.q, z, opts.jacobi);
     let tol = opts.tolerance;
-    let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
+    let growth = if tol > 0.0 {
+        (1e-2 / tol).clamp(1e4, 1e8)
+    } else {
+        1e8
+    };
     let par = n >= ws.parallel_min_rows;
     let correction = ws.correction;
-    let inexact = if ws.inexact.is_finite() { ws.inexact.max(0.0) } else { 0.0 };
+    let inexact = if ws.inexact.is_finite() {
+        ws.inexact.max(0.0)
+    } else {
+        0.0
+    };
 
     let Workspace {
         stats,
@@ -530,7 +596,16 @@ pub fn solve_with(
     macro_rules! sweep {
         () => {{
             stats.products += 1;
-            let inp = SweepIn { y, lo, hi, ylo, yhi, sc, gs, qs };
+            let inp = SweepIn {
+                y,
+                lo,
+                hi,
+                ylo,
+                yhi,
+                sc,
+                gs,
+                qs,
+            };
             sweep_y(par, csr, &inp, beta, wy, yt, parts)
         }};
     }
@@ -577,7 +652,9 @@ pub fn solve_with(
                 bmax = bmax.max(h.abs());
             }
             if have_prev {
-                change = change.max(bound_diff(l, lo_prev[i])).max(bound_diff(h, hi_prev[i]));
+                change = change
+                    .max(bound_diff(l, lo_prev[i]))
+                    .max(bound_diff(h, hi_prev[i]));
                 same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
             }
             ylo[i] = l * sd[i];
@@ -613,20 +690,27 @@ pub fn solve_with(
                     *yk = c;
                 }
             }
-            Partial { s0: moved, ..Partial::default() }
+            Partial {
+                s0: moved,
+                ..Partial::default()
+            }
         })
         .s0;
-        if !(same && moved == 0.0 && fresh) {
-            if !take!(sweep!()) {
-                break 'outer Status::NonFinite;
-            }
+        // Unchanged box and iterate: the last sweep is still valid.
+        let stale = !(same && moved == 0.0 && fresh);
+        if stale && !take!(sweep!()) {
+            break 'outer Status::NonFinite;
         }
         let limit = growth * dq.max(znorm).max(bmax);
         // Inexact passes (see `Workspace::inexact`): while the box still moves, solving the
         // VI of a box that is about to change far below that change is wasted work. Pass
         // m >= 1 stops at max(tol, inexact * change / max(1, max|bound|)); the stopping test
         // below still demands the full tolerance with a settled box.
-        let inner_tol = if outer == 0 { tol } else { tol.max(inexact * change / bmax.max(1.0)) };
+        let inner_tol = if outer == 0 {
+            tol
+        } else {
+            tol.max(inexact * change / bmax.max(1.0))
+        };
         have_prev = true;
 
         if outer > 0 && change <= tol * bmax.max(1.0) && res <= tol {
@@ -691,7 +775,10 @@ pub fn solve_with(
                         *tk = t;
                         s += (y_r[i] - t) * (y_r[i] - t);
                     }
-                    Partial { s0: s, ..Partial::default() }
+                    Partial {
+                        s0: s,
+                        ..Partial::default()
+                    }
                 })
                 .s0;
             };
@@ -749,7 +836,9 @@ pub fn solve_with(
     };
 
     stats.status = status;
-    if status != Status::Converged && last_infeasible {
+    let keeps_iterate = !matches!(status, Status::Diverged | Status::NonFinite)
+        && (status != Status::InvalidBounds || have_prev);
+    if status != Status::Converged && keeps_iterate && last_infeasible {
         // Contraction step only: report the residual of the projected iterate.
         let (ylo_r, yhi_r) = (&ylo[..], &yhi[..]);
         run1(par, y, parts, |r0, yo| {
@@ -776,7 +865,11 @@ pub fn solve_with(
                 }
                 Partial::default()
             });
-            if status == Status::InvalidBounds { f64::INFINITY } else { res }
+            if status == Status::InvalidBounds {
+                f64::INFINITY
+            } else {
+                res
+            }
         }
     };
     Report {
@@ -824,7 +917,16 @@ fn sweep_y(
     yt: &mut [f64],
     parts: &mut [Partial],
 ) -> Sweep {
-    let SweepIn { y, lo, hi, ylo, yhi, sc, gs, qs } = *v;
+    let SweepIn {
+        y,
+        lo,
+        hi,
+        ylo,
+        yhi,
+        sc,
+        gs,
+        qs,
+    } = *v;
     assert_eq!(y.len(), csr.rowptr.len() - 1);
     let pt = run2(par, wy, yt, parts, |r0, wo, to| {
         let mut pt = Partial::default();
@@ -896,14 +998,27 @@ mod tests {
     }
 
     fn opts(tolerance: f64, jacobi: bool) -> Options {
-        Options { tolerance, jacobi, ..Options::default() }
+        Options {
+            tolerance,
+            jacobi,
+            ..Options::default()
+        }
     }
 
     /// Solves a plain VI from a zero warm start; returns the report, z and the stats.
-    fn fixed(w: &CsMat<f64>, q: &[f64], lo: &[f64], hi: &[f64], o: &Options) -> (Report, Vec<f64>, Stats) {
+    fn fixed(
+        w: &CsMat<f64>,
+        q: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        o: &Options,
+    ) -> (Report, Vec<f64>, Stats) {
         let mut ws = Workspace::new();
         let mut z = vec![0.0; q.len()];
-        let mut rule = FixedBounds { lo: lo.to_vec(), hi: hi.to_vec() };
+        let mut rule = FixedBounds {
+            lo: lo.to_vec(),
+            hi: hi.to_vec(),
+        };
         let rep = solve_with(&mut ws, &Problem { w, q }, &mut rule, &mut z, o);
         (rep, z, ws.stats())
     }
@@ -921,8 +1036,24 @@ mod tests {
     #[test]
     fn empty_problem() {
         let w: CsMat<f64> = CsMat::zero((0, 0));
-        let rep = solve(&Problem { w: &w, q: &[] }, &mut FixedBounds { lo: vec![], hi: vec![] }, &mut [], &Options::default());
-        assert_eq!(rep, Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true });
+        let rep = solve(
+            &Problem { w: &w, q: &[] },
+            &mut FixedBounds {
+                lo: vec![],
+                hi: vec![],
+            },
+            &mut [],
+            &Options::default(),
+        );
+        assert_eq!(
+            rep,
+            Report {
+                outer_iterations: 0,
+                inner_iterations: 0,
+                residual: 0.0,
+                converged: true
+            }
+        );
     }
 
     /// min 1/2 w z² + q z on [lo, hi]: the solution is clip(−q/w, lo, hi) (the objective is
@@ -949,8 +1080,15 @@ mod tests {
                 let m = csr(1, &[w]);
                 let (rep, z, _) = fixed(&m, &[q], &[lo], &[hi], &opts(1e-12, jacobi));
                 let want = (-q / w).max(lo).min(hi);
-                assert!(rep.converged && rep.residual <= 1e-12, "{w} {q} {lo} {hi}: {rep:?}");
-                assert!((z[0] - want).abs() <= 1e-12 * want.abs().max(1.0), "{w} {q} {lo} {hi}: {} vs {want}", z[0]);
+                assert!(
+                    rep.converged && rep.residual <= 1e-12,
+                    "{w} {q} {lo} {hi}: {rep:?}"
+                );
+                assert!(
+                    (z[0] - want).abs() <= 1e-12 * want.abs().max(1.0),
+                    "{w} {q} {lo} {hi}: {} vs {want}",
+                    z[0]
+                );
                 assert!(lo <= z[0] && z[0] <= hi);
             }
         }
@@ -968,14 +1106,29 @@ mod tests {
                 let mut ws = Workspace::new();
                 ws.correction = correction;
                 let mut z = vec![0.7, -3.0]; // infeasible warm start
-                let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
-                let rep = solve_with(&mut ws, &Problem { w: &w, q: &[1.0, -3.0] }, &mut rule, &mut z, &opts(1e-12, jacobi));
+                let mut rule = FixedBounds {
+                    lo: vec![0.0, 0.0],
+                    hi: vec![INF, INF],
+                };
+                let rep = solve_with(
+                    &mut ws,
+                    &Problem {
+                        w: &w,
+                        q: &[1.0, -3.0],
+                    },
+                    &mut rule,
+                    &mut z,
+                    &opts(1e-12, jacobi),
+                );
                 assert!(rep.converged, "{rep:?}");
                 if correction == Correction::Extragradient {
                     // projected iterates land on the active bound exactly
                     assert_eq!(z[0], 0.0);
                 }
-                assert!(z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10, "{z:?}");
+                assert!(
+                    z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10,
+                    "{z:?}"
+                );
             }
         }
     }
@@ -990,10 +1143,22 @@ mod tests {
         let w = csr(3, &[1.0, 0.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0]);
         let q = [-1.0, -1.0, -2.0];
         let mut seen = Vec::new();
-        for (start, jacobi) in [([0.0, 0.0, 0.0], true), ([0.0, 0.0, 5.0], true), ([3.0, 0.0, 0.0], false)] {
+        for (start, jacobi) in [
+            ([0.0, 0.0, 0.0], true),
+            ([0.0, 0.0, 5.0], true),
+            ([3.0, 0.0, 0.0], false),
+        ] {
             let mut z = start.to_vec();
-            let mut rule = FixedBounds { lo: vec![0.0; 3], hi: vec![INF; 3] };
-            let rep = solve(&Problem { w: &w, q: &q }, &mut rule, &mut z, &opts(1e-12, jacobi));
+            let mut rule = FixedBounds {
+                lo: vec![0.0; 3],
+                hi: vec![INF; 3],
+            };
+            let rep = solve(
+                &Problem { w: &w, q: &q },
+                &mut rule,
+                &mut z,
+                &opts(1e-12, jacobi),
+            );
             assert!(rep.converged, "{rep:?}");
             let wz = [z[0] + z[2], z[1] + z[2], z[0] + z[1] + 2.0 * z[2]];
             for (a, b) in wz.iter().zip([1.0, 1.0, 2.0]) {
@@ -1019,15 +1184,53 @@ mod tests {
     fn coulomb_stick_and_slide() {
         let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
         for jacobi in [true, false] {
-            for (q, want) in [([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]), ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0])] {
+            for (q, want) in [
+                ([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]),
+                ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0]),
+            ] {
                 let mut z = vec![0.0, 0.0];
-                let rep = solve(&Problem { w: &w, q: &q }, &mut Friction(0.5), &mut z, &opts(1e-12, jacobi));
+                let rep = solve(
+                    &Problem { w: &w, q: &q },
+                    &mut Friction(0.5),
+                    &mut z,
+                    &opts(1e-12, jacobi),
+                );
                 assert!(rep.converged, "{q:?}: {rep:?}");
-                assert!((z[0] - want[0]).abs() < 1e-9 && (z[1] - want[1]).abs() < 1e-9, "{q:?}: {z:?} vs {want:?}");
+                assert!(
+                    (z[0] - want[0]).abs() < 1e-9 && (z[1] - want[1]).abs() < 1e-9,
+                    "{q:?}: {z:?} vs {want:?}"
+                );
                 // sliding needs more than one bound update, sticking settles at once
-                assert!(rep.outer_iterations >= if q[1] == -2.0 { 3 } else { 1 }, "{rep:?}");
+                assert!(
+                    rep.outer_iterations >= if q[1] == -2.0 { 3 } else { 1 },
+                    "{rep:?}"
+                );
             }
         }
+    }
+
+    /// CSC storage of a symmetric W reads the same as CSR: the 2×2 of
+    /// `two_by_two_active_set` given as CSC must give the same bits.
+    #[test]
+    fn csc_input() {
+        let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
+        let wc = w.to_csc();
+        let (a, za, _) = fixed(
+            &w,
+            &[1.0, -3.0],
+            &[0.0, 0.0],
+            &[INF, INF],
+            &opts(1e-12, true),
+        );
+        let (b, zb, _) = fixed(
+            &wc,
+            &[1.0, -3.0],
+            &[0.0, 0.0],
+            &[INF, INF],
+            &opts(1e-12, true),
+        );
+        assert!(a.converged);
+        assert_eq!((a, za), (b, zb));
     }
 
     /// A warm start that already solves the VI costs no iteration: one outer pass (the PC
@@ -1037,9 +1240,23 @@ mod tests {
     fn warm_start_at_solution() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
         let mut z = vec![0.0, 1.5];
-        let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
-        let rep = solve(&Problem { w: &w, q: &[1.0, -3.0] }, &mut rule, &mut z, &opts(1e-12, true));
-        assert_eq!((rep.outer_iterations, rep.inner_iterations, rep.converged), (1, 0, true));
+        let mut rule = FixedBounds {
+            lo: vec![0.0, 0.0],
+            hi: vec![INF, INF],
+        };
+        let rep = solve(
+            &Problem {
+                w: &w,
+                q: &[1.0, -3.0],
+            },
+            &mut rule,
+            &mut z,
+            &opts(1e-12, true),
+        );
+        assert_eq!(
+            (rep.outer_iterations, rep.inner_iterations, rep.converged),
+            (1, 0, true)
+        );
         assert_eq!(z, vec![0.0, 1.5]);
     }
 
@@ -1054,8 +1271,17 @@ mod tests {
         let q = [-1.0, -3.0];
         let mut ws = Workspace::new();
         let mut z = vec![0.25, 0.5];
-        let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
-        let rep = solve_with(&mut ws, &Problem { w: &w, q: &q }, &mut rule, &mut z, &Options::default());
+        let mut rule = FixedBounds {
+            lo: vec![0.0, 0.0],
+            hi: vec![INF, INF],
+        };
+        let rep = solve_with(
+            &mut ws,
+            &Problem { w: &w, q: &q },
+            &mut rule,
+            &mut z,
+            &Options::default(),
+        );
         assert!(!rep.converged && ws.stats().status == Status::Diverged);
         assert_eq!((rep.inner_iterations, rep.residual), (0, INF));
         assert_eq!(z, vec![0.25, 0.5]);
@@ -1081,7 +1307,10 @@ mod tests {
         for (dense, q, lo) in cases {
             let w = csr(2, &dense);
             let (rep, z, st) = fixed(&w, &q, &lo, &[INF, INF], &Options::default());
-            assert!(!rep.converged && st.status == Status::Diverged, "{rep:?} {st:?}");
+            assert!(
+                !rep.converged && st.status == Status::Diverged,
+                "{rep:?} {st:?}"
+            );
             assert!(rep.inner_iterations < 1000, "{rep:?}");
             assert_eq!(z, vec![0.0, 0.0]);
         }
@@ -1092,8 +1321,17 @@ mod tests {
     #[test]
     fn nan_input_is_reported() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
-        let (rep, z, st) = fixed(&w, &[f64::NAN, 1.0], &[0.0, 0.0], &[INF, INF], &Options::default());
-        assert!(!rep.converged && st.status == Status::NonFinite, "{rep:?} {st:?}");
+        let (rep, z, st) = fixed(
+            &w,
+            &[f64::NAN, 1.0],
+            &[0.0, 0.0],
+            &[INF, INF],
+            &Options::default(),
+        );
+        assert!(
+            !rep.converged && st.status == Status::NonFinite,
+            "{rep:?} {st:?}"
+        );
         assert_eq!(z, vec![0.0, 0.0]);
     }
 
@@ -1103,8 +1341,17 @@ mod tests {
         let w = csr(1, &[1.0]);
         let mut ws = Workspace::new();
         let mut z = vec![0.5];
-        let mut rule = FixedBounds { lo: vec![1.0], hi: vec![0.0] };
-        let rep = solve_with(&mut ws, &Problem { w: &w, q: &[-1.0] }, &mut rule, &mut z, &Options::default());
+        let mut rule = FixedBounds {
+            lo: vec![1.0],
+            hi: vec![0.0],
+        };
+        let rep = solve_with(
+            &mut ws,
+            &Problem { w: &w, q: &[-1.0] },
+            &mut rule,
+            &mut z,
+            &Options::default(),
+        );
         assert!(!rep.converged && ws.stats().status == Status::InvalidBounds);
         assert_eq!(z, vec![0.5]);
     }
@@ -1116,9 +1363,15 @@ mod tests {
     #[test]
     fn iteration_limit_is_reported() {
         let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
-        let o = Options { max_iterations: 3, ..opts(1e-12, true) };
+        let o = Options {
+            max_iterations: 3,
+            ..opts(1e-12, true)
+        };
         let (rep, z, st) = fixed(&w, &[1.0, -1.0], &[-10.0, -10.0], &[10.0, 10.0], &o);
-        assert!(!rep.converged && st.status == Status::IterationLimit, "{rep:?}");
+        assert!(
+            !rep.converged && st.status == Status::IterationLimit,
+            "{rep:?}"
+        );
         assert_eq!(rep.inner_iterations, 3);
         assert!(rep.residual > 1e-12 && rep.residual.is_finite());
         assert!(z.iter().all(|v| v.is_finite() && v.abs() <= 10.0));
@@ -1136,12 +1389,25 @@ mod tests {
                 let n = q.len();
                 let run = |ws: &mut Workspace| {
                     let mut z = vec![0.0; n];
-                    let rep = solve_with(ws, &Problem { w, q: &q }, &mut FixedBounds { lo: vec![0.0; n], hi: vec![INF; n] }, &mut z, &opts(1e-12, true));
+                    let rep = solve_with(
+                        ws,
+                        &Problem { w, q: &q },
+                        &mut FixedBounds {
+                            lo: vec![0.0; n],
+                            hi: vec![INF; n],
+                        },
+                        &mut z,
+                        &opts(1e-12, true),
+                    );
                     (rep, z)
                 };
                 let (a, b) = (run(&mut ws), run(&mut Workspace::new()));
                 assert_eq!(a.0, b.0);
-                assert!(a.1.iter().zip(&b.1).all(|(x, y)| x.to_bits() == y.to_bits()));
+                assert!(
+                    a.1.iter()
+                        .zip(&b.1)
+                        .all(|(x, y)| x.to_bits() == y.to_bits())
+                );
             }
         }
     }
@@ -1152,8 +1418,18 @@ mod tests {
     #[test]
     fn product_count() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
-        let (rep, _, st) = fixed(&w, &[1.0, -3.0], &[-INF, -INF], &[INF, INF], &opts(1e-12, true));
+        let (rep, _, st) = fixed(
+            &w,
+            &[1.0, -3.0],
+            &[-INF, -INF],
+            &[INF, INF],
+            &opts(1e-12, true),
+        );
         assert!(rep.converged);
-        assert_eq!(st.products, 2 * rep.inner_iterations + st.shrinks + 1, "{rep:?} {st:?}");
+        assert_eq!(
+            st.products,
+            2 * rep.inner_iterations + st.shrinks + 1,
+            "{rep:?} {st:?}"
+        );
     }
 }

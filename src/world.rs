@@ -381,7 +381,6 @@ impl World {
         let mut warnings = Vec::new();
         let mut run = |w: &sprs::CsMat<f64>, q: &[f64], z: &mut [f64], which: &str| {
             let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
-            if std::env::var("PBDDA_DEBUG").is_ok() { eprintln!("  {which}: {r:?}"); }
             if !r.converged {
                 warnings.push(format!(
                     "step {step}: contact solver ({which}) did not converge: residual {:.3e} after {} iterations",
@@ -434,11 +433,12 @@ impl World {
     }
 
     /// End-of-step gaps G = q + W z, which contacts are closed (bonded, loaded, or touching at
-    /// the end of the step to within 1e-9 d0), and the rows of impacting contacts.
+    /// the end of the step to within the penetration allowance), and the rows of impacting
+    /// contacts.
     fn classify(&self, contacts: &[Active], w: &sprs::CsMat<f64>, q: &[f64], z: &[f64]) -> Classified {
         let mut gaps = q.to_vec();
         sprs::prod::mul_acc_mat_vec_csr(w.view(), z, &mut gaps[..]);
-        let touching = 1e-9 * self.threshold;
+        let touching = self.allowance;
         let closed: Vec<bool> = contacts
             .iter()
             .map(|c| c.law.bonded || z[c.law.row] > 0.0 || gaps[c.law.row] <= touching)
@@ -545,7 +545,10 @@ impl World {
             body.displacement(x, &self.v0(body))
         };
         let rate = c.geom.normal.dot(&(velocity(c.geom.a) - velocity(c.geom.b)));
-        rate * self.dt() < -1e-9 * self.threshold
+        // an approach slower than the solver's own gap accuracy per step is noise, not an
+        // impact (doubling a resting contact's share would push its bodies into their
+        // neighbours)
+        rate * self.dt() < -self.allowance
     }
 
     /// Math note §1.3 (c, d): dbar = d + K⁻¹ C_imp p1_imp for the geometry (only impacting
