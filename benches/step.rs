@@ -19,7 +19,12 @@ fn settled(pile: DiskPile) -> World {
     let rec = world.clone().step().expect("pile step");
     eprintln!(
         "pile {}x{}: {} contacts, {} outer / {} PC iterations per step, residual {:e}",
-        columns, rows, rec.contacts.len(), rec.outer_iterations, rec.inner_iterations, rec.residual
+        columns,
+        rows,
+        rec.contacts.len(),
+        rec.outer_iterations,
+        rec.inner_iterations,
+        rec.residual
     );
     world
 }
@@ -37,7 +42,11 @@ fn step(c: &mut Criterion) {
     ] {
         let world = settled(pile);
         group.bench_function(name, |b| {
-            b.iter_batched(|| world.clone(), |mut w| black_box(w.step().expect("step")), BatchSize::LargeInput)
+            b.iter_batched(
+                || world.clone(),
+                |mut w| black_box(w.step().expect("step")),
+                BatchSize::LargeInput,
+            )
         });
     }
     group.finish();

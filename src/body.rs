@@ -19,11 +19,19 @@ pub type BodyMatrix = SMatrix<f64, MAX_DOF, MAX_DOF>;
 /// The body's outline in the current configuration.
 #[derive(Debug, Clone)]
 pub enum Outline {
-    Disk { radius: f64 },
+    Disk {
+        radius: f64,
+    },
     /// `outer` is R_E, `inner` is R_I.
-    Ring { outer: f64, inner: f64 },
+    Ring {
+        outer: f64,
+        inner: f64,
+    },
     /// Counter-clockwise vertices, current positions; `convex[k]`: interior angle < 180°.
-    Polygon { vertices: Vec<Vec2>, convex: Vec<bool> },
+    Polygon {
+        vertices: Vec<Vec2>,
+        convex: Vec<bool>,
+    },
 }
 
 /// Area and central second moments of the current outline (math note §2.1).
@@ -293,7 +301,9 @@ impl Body {
         }
         let de = self.strain_map() * d;
         let moved: Option<Vec<Vec2>> = match &self.outline {
-            Outline::Polygon { vertices, .. } => Some(vertices.iter().map(|&v| self.moved_point(v, d)).collect()),
+            Outline::Polygon { vertices, .. } => {
+                Some(vertices.iter().map(|&v| self.moved_point(v, d)).collect())
+            }
             _ => None,
         };
         match &mut self.outline {
@@ -413,7 +423,10 @@ mod tests {
     }
 
     fn l_shape() -> Vec<Vec2> {
-        [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect()
+        [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+            .iter()
+            .map(|&(x, y)| Vec2::new(x, y))
+            .collect()
     }
 
     /// Closed-form mass matrices (rigid 3×3, deformable 6×6) against exact quadrature of
@@ -421,7 +434,8 @@ mod tests {
     #[test]
     fn polygon_mass_matrices_match_quadrature() {
         for model in [BodyModel::Rigid, BodyModel::Deformable] {
-            let body = Body::new(&spec(Shape::Polygon { vertices: l_shape() }, model), &material(), Plane::Stress);
+            let body =
+                Body::new(&spec(Shape::Polygon { vertices: l_shape() }, model), &material(), Plane::Stress);
             let exact = quadrature_mass(&body, &l_shape());
             assert!((body.mass_matrix() - exact).amax() < 1e-12, "{model:?}: {}", body.mass_matrix() - exact);
         }
@@ -461,7 +475,8 @@ mod tests {
     #[test]
     fn rigid_rotation_is_exact() {
         let sq = vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)];
-        let mut body = Body::new(&spec(Shape::Polygon { vertices: sq }, BodyModel::Rigid), &material(), Plane::Stress);
+        let mut body =
+            Body::new(&spec(Shape::Polygon { vertices: sq }, BodyModel::Rigid), &material(), Plane::Stress);
         let mut d = Dofs::zeros();
         d[2] = std::f64::consts::FRAC_PI_2;
         body.apply_increment(&d);

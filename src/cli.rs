@@ -133,7 +133,10 @@ pub fn summary(model: &Model) -> String {
     );
     let mass: f64 = world.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass).sum();
     s += &format!("free mass: {mass} kg/m\n");
-    s += &format!("materials: {}\n", model.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", "));
+    s += &format!(
+        "materials: {}\n",
+        model.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
+    );
     for i in &model.interfaces {
         let pair = match i.materials {
             Some([a, b]) => format!("{} / {}", model.materials[a].name, model.materials[b].name),

@@ -33,13 +33,7 @@ pub struct SceneError {
 
 impl SceneError {
     /// An error at the byte range `span` of `source`.
-    pub(crate) fn at(
-        file: &str,
-        source: &str,
-        span: Range<usize>,
-        key: String,
-        message: String,
-    ) -> Self {
+    pub(crate) fn at(file: &str, source: &str, span: Range<usize>, key: String, message: String) -> Self {
         let start = span.start.min(source.len());
         let end = span.end.clamp(start, source.len());
         let (line, column) = line_column(source, start);
@@ -68,14 +62,7 @@ impl SceneError {
     }
 
     fn headline(&self) -> String {
-        let Self {
-            file,
-            line,
-            column,
-            key,
-            message,
-            ..
-        } = self;
+        let Self { file, line, column, key, message, .. } = self;
         match (*line, key.is_empty()) {
             (0, _) => format!("{file}: {message}"),
             (_, true) => format!("{file}:{line}:{column}: {message}"),
@@ -87,17 +74,10 @@ impl SceneError {
 /// 1-based line and column (in characters) of the byte `offset` of `source`.
 fn line_column(source: &str, offset: usize) -> (usize, usize) {
     let before = &source.as_bytes()[..offset.min(source.len())];
-    let line_start = before
-        .iter()
-        .rposition(|&b| b == b'\n')
-        .map_or(0, |i| i + 1);
+    let line_start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
     let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
     // count UTF-8 lead bytes only, so a multi-byte character is one column
-    let column = before[line_start..]
-        .iter()
-        .filter(|&&b| b & 0xC0 != 0x80)
-        .count()
-        + 1;
+    let column = before[line_start..].iter().filter(|&&b| b & 0xC0 != 0x80).count() + 1;
     (line, column)
 }
 
@@ -125,10 +105,7 @@ mod tests {
             "body[2].radius".into(),
             "radius must be positive (got -1)".into(),
         );
-        assert_eq!(
-            e.to_string(),
-            "scene.toml:2:1: body[2].radius: radius must be positive (got -1)"
-        );
+        assert_eq!(e.to_string(), "scene.toml:2:1: body[2].radius: radius must be positive (got -1)");
         let io = std::io::Error::new(std::io::ErrorKind::NotFound, "not found");
         assert_eq!(
             SceneError::unreadable("a.toml", &io).to_string(),

@@ -84,7 +84,11 @@ impl DiskPile {
             contact: ContactSettings { threshold: Some(0.1 * r) },
             solver: SolverSettings { tolerance: 1e-6, max_iterations: 20_000 },
             materials: vec![material],
-            interfaces: vec![Interface { friction: self.friction, rolling: self.rolling, ..Interface::SMOOTH }],
+            interfaces: vec![Interface {
+                friction: self.friction,
+                rolling: self.rolling,
+                ..Interface::SMOOTH
+            }],
             bodies,
             loads: vec![],
             monitors: vec![],

@@ -211,8 +211,7 @@ mod tests {
         let bow: Vec<Vec2> =
             [(0., 0.), (1., 1.), (1., 0.), (0., 1.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect();
         assert!(matches!(check_simple_polygon(&bow), Err(PolygonDefect::SelfIntersection(..))));
-        let flat: Vec<Vec2> =
-            [(0., 0.), (1., 0.), (2., 0.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect();
+        let flat: Vec<Vec2> = [(0., 0.), (1., 0.), (2., 0.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect();
         assert!(check_simple_polygon(&flat).is_err());
         let dup: Vec<Vec2> =
             [(0., 0.), (1., 0.), (1., 0.), (0., 1.)].iter().map(|&(x, y)| Vec2::new(x, y)).collect();

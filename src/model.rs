@@ -92,22 +92,26 @@ pub struct Interface {
 
 impl Interface {
     /// The frictionless, cohesionless law used when a scene gives no default interface.
-    pub const SMOOTH: Interface = Interface {
-        materials: None,
-        friction: 0.0,
-        cohesion: 0.0,
-        tensile_strength: 0.0,
-        rolling: 0.0,
-    };
+    pub const SMOOTH: Interface =
+        Interface { materials: None, friction: 0.0, cohesion: 0.0, tensile_strength: 0.0, rolling: 0.0 };
 }
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Shape {
-    Disk { center: Vec2, radius: f64 },
+    Disk {
+        center: Vec2,
+        radius: f64,
+    },
     /// `outer` is R_E and `inner` is R_I (radii, math note §2.2).
-    Ring { center: Vec2, outer: f64, inner: f64 },
+    Ring {
+        center: Vec2,
+        outer: f64,
+        inner: f64,
+    },
     /// Simple polygon, vertices in counter-clockwise order (normalized by `scene.rs`).
-    Polygon { vertices: Vec<Vec2> },
+    Polygon {
+        vertices: Vec<Vec2>,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

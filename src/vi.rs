@@ -128,12 +128,7 @@ pub struct Options {
 
 impl Default for Options {
     fn default() -> Self {
-        Self {
-            tolerance: 1e-8,
-            max_iterations: 200_000,
-            max_outer: 50,
-            jacobi: true,
-        }
+        Self { tolerance: 1e-8, max_iterations: 200_000, max_outer: 50, jacobi: true }
     }
 }
 
@@ -307,10 +302,7 @@ impl Workspace {
         let indptr = w.proper_indptr();
         let (indices, data) = (w.indices(), w.data());
         let nnz = indptr[n];
-        assert!(
-            n <= u32::MAX as usize,
-            "vi: too many rows for u32 column indices"
-        );
+        assert!(n <= u32::MAX as usize, "vi: too many rows for u32 column indices");
 
         for v in [
             &mut self.sd,
@@ -355,11 +347,7 @@ impl Workspace {
                 self.zero_rows.push(i);
             }
             let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
-            let (sd, sc) = if jacobi {
-                (d.sqrt(), 1.0 / d.sqrt())
-            } else {
-                (1.0, 1.0)
-            };
+            let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
             self.sd[i] = sd;
             self.sc[i] = sc;
             self.gs[i] = if jacobi { sc } else { 1.0 / d };
@@ -385,17 +373,9 @@ impl Workspace {
             // D⁻¹ q = gs * qs in both modes.
             dq = dq.max((self.gs[i] * self.qs[i]).abs());
             self.z0[i] = z[i];
-            self.y[i] = if z[i].is_finite() {
-                z[i] * self.sd[i]
-            } else {
-                0.0
-            };
+            self.y[i] = if z[i].is_finite() { z[i] * self.sd[i] } else { 0.0 };
         }
-        let beta0 = if max_diag > 0.0 && max_diag.is_finite() {
-            1.0 / max_diag
-        } else {
-            1.0
-        };
+        let beta0 = if max_diag > 0.0 && max_diag.is_finite() { 1.0 / max_diag } else { 1.0 };
         (beta0, dq.max(1.0))
     }
 }
@@ -450,11 +430,8 @@ where
             .enumerate()
             .for_each(|(b, ((a, c), p))| *p = f(b * BLOCK, a, c));
     } else {
-        for (b, ((a, c), p)) in o1
-            .chunks_mut(BLOCK)
-            .zip(o2.chunks_mut(BLOCK))
-            .zip(parts.iter_mut())
-            .enumerate()
+        for (b, ((a, c), p)) in
+            o1.chunks_mut(BLOCK).zip(o2.chunks_mut(BLOCK)).zip(parts.iter_mut()).enumerate()
         {
             *p = f(b * BLOCK, a, c);
         }
@@ -531,28 +508,15 @@ pub fn solve_with(
     assert_eq!(z.len(), n, "vi: z.len() must equal q.len()");
     ws.stats = Stats::default();
     if n == 0 {
-        return Report {
-            outer_iterations: 0,
-            inner_iterations: 0,
-            residual: 0.0,
-            converged: true,
-        };
+        return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
     }
 
     let (beta0, dq) = ws.setup(p.w, p.q, z, opts.jacobi);
     let tol = opts.tolerance;
-    let growth = if tol > 0.0 {
-        (1e-2 / tol).clamp(1e4, 1e8)
-    } else {
-        1e8
-    };
+    let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
     let par = n >= ws.parallel_min_rows;
     let correction = ws.correction;
-    let inexact = if ws.inexact.is_finite() {
-        ws.inexact.max(0.0)
-    } else {
-        0.0
-    };
+    let inexact = if ws.inexact.is_finite() { ws.inexact.max(0.0) } else { 0.0 };
 
     let Workspace {
         stats,
@@ -596,16 +560,7 @@ pub fn solve_with(
     macro_rules! sweep {
         () => {{
             stats.products += 1;
-            let inp = SweepIn {
-                y,
-                lo,
-                hi,
-                ylo,
-                yhi,
-                sc,
-                gs,
-                qs,
-            };
+            let inp = SweepIn { y, lo, hi, ylo, yhi, sc, gs, qs };
             sweep_y(par, csr, &inp, beta, wy, yt, parts)
         }};
     }
@@ -652,9 +607,7 @@ pub fn solve_with(
                 bmax = bmax.max(h.abs());
             }
             if have_prev {
-                change = change
-                    .max(bound_diff(l, lo_prev[i]))
-                    .max(bound_diff(h, hi_prev[i]));
+                change = change.max(bound_diff(l, lo_prev[i])).max(bound_diff(h, hi_prev[i]));
                 same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
             }
             ylo[i] = l * sd[i];
@@ -690,10 +643,7 @@ pub fn solve_with(
                     *yk = c;
                 }
             }
-            Partial {
-                s0: moved,
-                ..Partial::default()
-            }
+            Partial { s0: moved, ..Partial::default() }
         })
         .s0;
         // Unchanged box and iterate: the last sweep is still valid.
@@ -706,11 +656,7 @@ pub fn solve_with(
         // VI of a box that is about to change far below that change is wasted work. Pass
         // m >= 1 stops at max(tol, inexact * change / max(1, max|bound|)); the stopping test
         // below still demands the full tolerance with a settled box.
-        let inner_tol = if outer == 0 {
-            tol
-        } else {
-            tol.max(inexact * change / bmax.max(1.0))
-        };
+        let inner_tol = if outer == 0 { tol } else { tol.max(inexact * change / bmax.max(1.0)) };
         have_prev = true;
 
         if outer > 0 && change <= tol * bmax.max(1.0) && res <= tol {
@@ -775,10 +721,7 @@ pub fn solve_with(
                         *tk = t;
                         s += (y_r[i] - t) * (y_r[i] - t);
                     }
-                    Partial {
-                        s0: s,
-                        ..Partial::default()
-                    }
+                    Partial { s0: s, ..Partial::default() }
                 })
                 .s0;
             };
@@ -786,8 +729,7 @@ pub fn solve_with(
             let ed = ee - beta * edf;
             let dd = ee - 2.0 * beta * edf + beta * beta * dfdf;
             let alpha = ed / dd;
-            let (ylo_r, yhi_r, wy_r, yt_r, wyt_r) =
-                (&ylo[..], &yhi[..], &wy[..], &yt[..], &wyt[..]);
+            let (ylo_r, yhi_r, wy_r, yt_r, wyt_r) = (&ylo[..], &yhi[..], &wy[..], &yt[..], &wyt[..]);
             match correction {
                 Correction::Extragradient => {
                     let step = GAMMA * alpha * beta;
@@ -865,11 +807,7 @@ pub fn solve_with(
                 }
                 Partial::default()
             });
-            if status == Status::InvalidBounds {
-                f64::INFINITY
-            } else {
-                res
-            }
+            if status == Status::InvalidBounds { f64::INFINITY } else { res }
         }
     };
     Report {
@@ -917,16 +855,7 @@ fn sweep_y(
     yt: &mut [f64],
     parts: &mut [Partial],
 ) -> Sweep {
-    let SweepIn {
-        y,
-        lo,
-        hi,
-        ylo,
-        yhi,
-        sc,
-        gs,
-        qs,
-    } = *v;
+    let SweepIn { y, lo, hi, ylo, yhi, sc, gs, qs } = *v;
     assert_eq!(y.len(), csr.rowptr.len() - 1);
     let pt = run2(par, wy, yt, parts, |r0, wo, to| {
         let mut pt = Partial::default();
@@ -998,27 +927,14 @@ mod tests {
     }
 
     fn opts(tolerance: f64, jacobi: bool) -> Options {
-        Options {
-            tolerance,
-            jacobi,
-            ..Options::default()
-        }
+        Options { tolerance, jacobi, ..Options::default() }
     }
 
     /// Solves a plain VI from a zero warm start; returns the report, z and the stats.
-    fn fixed(
-        w: &CsMat<f64>,
-        q: &[f64],
-        lo: &[f64],
-        hi: &[f64],
-        o: &Options,
-    ) -> (Report, Vec<f64>, Stats) {
+    fn fixed(w: &CsMat<f64>, q: &[f64], lo: &[f64], hi: &[f64], o: &Options) -> (Report, Vec<f64>, Stats) {
         let mut ws = Workspace::new();
         let mut z = vec![0.0; q.len()];
-        let mut rule = FixedBounds {
-            lo: lo.to_vec(),
-            hi: hi.to_vec(),
-        };
+        let mut rule = FixedBounds { lo: lo.to_vec(), hi: hi.to_vec() };
         let rep = solve_with(&mut ws, &Problem { w, q }, &mut rule, &mut z, o);
         (rep, z, ws.stats())
     }
@@ -1038,22 +954,11 @@ mod tests {
         let w: CsMat<f64> = CsMat::zero((0, 0));
         let rep = solve(
             &Problem { w: &w, q: &[] },
-            &mut FixedBounds {
-                lo: vec![],
-                hi: vec![],
-            },
+            &mut FixedBounds { lo: vec![], hi: vec![] },
             &mut [],
             &Options::default(),
         );
-        assert_eq!(
-            rep,
-            Report {
-                outer_iterations: 0,
-                inner_iterations: 0,
-                residual: 0.0,
-                converged: true
-            }
-        );
+        assert_eq!(rep, Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true });
     }
 
     /// min 1/2 w z² + q z on [lo, hi]: the solution is clip(−q/w, lo, hi) (the objective is
@@ -1080,10 +985,7 @@ mod tests {
                 let m = csr(1, &[w]);
                 let (rep, z, _) = fixed(&m, &[q], &[lo], &[hi], &opts(1e-12, jacobi));
                 let want = (-q / w).max(lo).min(hi);
-                assert!(
-                    rep.converged && rep.residual <= 1e-12,
-                    "{w} {q} {lo} {hi}: {rep:?}"
-                );
+                assert!(rep.converged && rep.residual <= 1e-12, "{w} {q} {lo} {hi}: {rep:?}");
                 assert!(
                     (z[0] - want).abs() <= 1e-12 * want.abs().max(1.0),
                     "{w} {q} {lo} {hi}: {} vs {want}",
@@ -1106,16 +1008,10 @@ mod tests {
                 let mut ws = Workspace::new();
                 ws.correction = correction;
                 let mut z = vec![0.7, -3.0]; // infeasible warm start
-                let mut rule = FixedBounds {
-                    lo: vec![0.0, 0.0],
-                    hi: vec![INF, INF],
-                };
+                let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
                 let rep = solve_with(
                     &mut ws,
-                    &Problem {
-                        w: &w,
-                        q: &[1.0, -3.0],
-                    },
+                    &Problem { w: &w, q: &[1.0, -3.0] },
                     &mut rule,
                     &mut z,
                     &opts(1e-12, jacobi),
@@ -1125,10 +1021,7 @@ mod tests {
                     // projected iterates land on the active bound exactly
                     assert_eq!(z[0], 0.0);
                 }
-                assert!(
-                    z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10,
-                    "{z:?}"
-                );
+                assert!(z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10, "{z:?}");
             }
         }
     }
@@ -1143,22 +1036,10 @@ mod tests {
         let w = csr(3, &[1.0, 0.0, 1.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0]);
         let q = [-1.0, -1.0, -2.0];
         let mut seen = Vec::new();
-        for (start, jacobi) in [
-            ([0.0, 0.0, 0.0], true),
-            ([0.0, 0.0, 5.0], true),
-            ([3.0, 0.0, 0.0], false),
-        ] {
+        for (start, jacobi) in [([0.0, 0.0, 0.0], true), ([0.0, 0.0, 5.0], true), ([3.0, 0.0, 0.0], false)] {
             let mut z = start.to_vec();
-            let mut rule = FixedBounds {
-                lo: vec![0.0; 3],
-                hi: vec![INF; 3],
-            };
-            let rep = solve(
-                &Problem { w: &w, q: &q },
-                &mut rule,
-                &mut z,
-                &opts(1e-12, jacobi),
-            );
+            let mut rule = FixedBounds { lo: vec![0.0; 3], hi: vec![INF; 3] };
+            let rep = solve(&Problem { w: &w, q: &q }, &mut rule, &mut z, &opts(1e-12, jacobi));
             assert!(rep.converged, "{rep:?}");
             let wz = [z[0] + z[2], z[1] + z[2], z[0] + z[1] + 2.0 * z[2]];
             for (a, b) in wz.iter().zip([1.0, 1.0, 2.0]) {
@@ -1184,27 +1065,18 @@ mod tests {
     fn coulomb_stick_and_slide() {
         let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
         for jacobi in [true, false] {
-            for (q, want) in [
-                ([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]),
-                ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0]),
-            ] {
+            for (q, want) in
+                [([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]), ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0])]
+            {
                 let mut z = vec![0.0, 0.0];
-                let rep = solve(
-                    &Problem { w: &w, q: &q },
-                    &mut Friction(0.5),
-                    &mut z,
-                    &opts(1e-12, jacobi),
-                );
+                let rep = solve(&Problem { w: &w, q: &q }, &mut Friction(0.5), &mut z, &opts(1e-12, jacobi));
                 assert!(rep.converged, "{q:?}: {rep:?}");
                 assert!(
                     (z[0] - want[0]).abs() < 1e-9 && (z[1] - want[1]).abs() < 1e-9,
                     "{q:?}: {z:?} vs {want:?}"
                 );
                 // sliding needs more than one bound update, sticking settles at once
-                assert!(
-                    rep.outer_iterations >= if q[1] == -2.0 { 3 } else { 1 },
-                    "{rep:?}"
-                );
+                assert!(rep.outer_iterations >= if q[1] == -2.0 { 3 } else { 1 }, "{rep:?}");
             }
         }
     }
@@ -1215,20 +1087,8 @@ mod tests {
     fn csc_input() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
         let wc = w.to_csc();
-        let (a, za, _) = fixed(
-            &w,
-            &[1.0, -3.0],
-            &[0.0, 0.0],
-            &[INF, INF],
-            &opts(1e-12, true),
-        );
-        let (b, zb, _) = fixed(
-            &wc,
-            &[1.0, -3.0],
-            &[0.0, 0.0],
-            &[INF, INF],
-            &opts(1e-12, true),
-        );
+        let (a, za, _) = fixed(&w, &[1.0, -3.0], &[0.0, 0.0], &[INF, INF], &opts(1e-12, true));
+        let (b, zb, _) = fixed(&wc, &[1.0, -3.0], &[0.0, 0.0], &[INF, INF], &opts(1e-12, true));
         assert!(a.converged);
         assert_eq!((a, za), (b, zb));
     }
@@ -1240,23 +1100,9 @@ mod tests {
     fn warm_start_at_solution() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
         let mut z = vec![0.0, 1.5];
-        let mut rule = FixedBounds {
-            lo: vec![0.0, 0.0],
-            hi: vec![INF, INF],
-        };
-        let rep = solve(
-            &Problem {
-                w: &w,
-                q: &[1.0, -3.0],
-            },
-            &mut rule,
-            &mut z,
-            &opts(1e-12, true),
-        );
-        assert_eq!(
-            (rep.outer_iterations, rep.inner_iterations, rep.converged),
-            (1, 0, true)
-        );
+        let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+        let rep = solve(&Problem { w: &w, q: &[1.0, -3.0] }, &mut rule, &mut z, &opts(1e-12, true));
+        assert_eq!((rep.outer_iterations, rep.inner_iterations, rep.converged), (1, 0, true));
         assert_eq!(z, vec![0.0, 1.5]);
     }
 
@@ -1271,17 +1117,8 @@ mod tests {
         let q = [-1.0, -3.0];
         let mut ws = Workspace::new();
         let mut z = vec![0.25, 0.5];
-        let mut rule = FixedBounds {
-            lo: vec![0.0, 0.0],
-            hi: vec![INF, INF],
-        };
-        let rep = solve_with(
-            &mut ws,
-            &Problem { w: &w, q: &q },
-            &mut rule,
-            &mut z,
-            &Options::default(),
-        );
+        let mut rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+        let rep = solve_with(&mut ws, &Problem { w: &w, q: &q }, &mut rule, &mut z, &Options::default());
         assert!(!rep.converged && ws.stats().status == Status::Diverged);
         assert_eq!((rep.inner_iterations, rep.residual), (0, INF));
         assert_eq!(z, vec![0.25, 0.5]);
@@ -1307,10 +1144,7 @@ mod tests {
         for (dense, q, lo) in cases {
             let w = csr(2, &dense);
             let (rep, z, st) = fixed(&w, &q, &lo, &[INF, INF], &Options::default());
-            assert!(
-                !rep.converged && st.status == Status::Diverged,
-                "{rep:?} {st:?}"
-            );
+            assert!(!rep.converged && st.status == Status::Diverged, "{rep:?} {st:?}");
             assert!(rep.inner_iterations < 1000, "{rep:?}");
             assert_eq!(z, vec![0.0, 0.0]);
         }
@@ -1321,17 +1155,8 @@ mod tests {
     #[test]
     fn nan_input_is_reported() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
-        let (rep, z, st) = fixed(
-            &w,
-            &[f64::NAN, 1.0],
-            &[0.0, 0.0],
-            &[INF, INF],
-            &Options::default(),
-        );
-        assert!(
-            !rep.converged && st.status == Status::NonFinite,
-            "{rep:?} {st:?}"
-        );
+        let (rep, z, st) = fixed(&w, &[f64::NAN, 1.0], &[0.0, 0.0], &[INF, INF], &Options::default());
+        assert!(!rep.converged && st.status == Status::NonFinite, "{rep:?} {st:?}");
         assert_eq!(z, vec![0.0, 0.0]);
     }
 
@@ -1341,17 +1166,8 @@ mod tests {
         let w = csr(1, &[1.0]);
         let mut ws = Workspace::new();
         let mut z = vec![0.5];
-        let mut rule = FixedBounds {
-            lo: vec![1.0],
-            hi: vec![0.0],
-        };
-        let rep = solve_with(
-            &mut ws,
-            &Problem { w: &w, q: &[-1.0] },
-            &mut rule,
-            &mut z,
-            &Options::default(),
-        );
+        let mut rule = FixedBounds { lo: vec![1.0], hi: vec![0.0] };
+        let rep = solve_with(&mut ws, &Problem { w: &w, q: &[-1.0] }, &mut rule, &mut z, &Options::default());
         assert!(!rep.converged && ws.stats().status == Status::InvalidBounds);
         assert_eq!(z, vec![0.5]);
     }
@@ -1363,15 +1179,9 @@ mod tests {
     #[test]
     fn iteration_limit_is_reported() {
         let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
-        let o = Options {
-            max_iterations: 3,
-            ..opts(1e-12, true)
-        };
+        let o = Options { max_iterations: 3, ..opts(1e-12, true) };
         let (rep, z, st) = fixed(&w, &[1.0, -1.0], &[-10.0, -10.0], &[10.0, 10.0], &o);
-        assert!(
-            !rep.converged && st.status == Status::IterationLimit,
-            "{rep:?}"
-        );
+        assert!(!rep.converged && st.status == Status::IterationLimit, "{rep:?}");
         assert_eq!(rep.inner_iterations, 3);
         assert!(rep.residual > 1e-12 && rep.residual.is_finite());
         assert!(z.iter().all(|v| v.is_finite() && v.abs() <= 10.0));
@@ -1392,10 +1202,7 @@ mod tests {
                     let rep = solve_with(
                         ws,
                         &Problem { w, q: &q },
-                        &mut FixedBounds {
-                            lo: vec![0.0; n],
-                            hi: vec![INF; n],
-                        },
+                        &mut FixedBounds { lo: vec![0.0; n], hi: vec![INF; n] },
                         &mut z,
                         &opts(1e-12, true),
                     );
@@ -1403,11 +1210,7 @@ mod tests {
                 };
                 let (a, b) = (run(&mut ws), run(&mut Workspace::new()));
                 assert_eq!(a.0, b.0);
-                assert!(
-                    a.1.iter()
-                        .zip(&b.1)
-                        .all(|(x, y)| x.to_bits() == y.to_bits())
-                );
+                assert!(a.1.iter().zip(&b.1).all(|(x, y)| x.to_bits() == y.to_bits()));
             }
         }
     }
@@ -1418,18 +1221,8 @@ mod tests {
     #[test]
     fn product_count() {
         let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
-        let (rep, _, st) = fixed(
-            &w,
-            &[1.0, -3.0],
-            &[-INF, -INF],
-            &[INF, INF],
-            &opts(1e-12, true),
-        );
+        let (rep, _, st) = fixed(&w, &[1.0, -3.0], &[-INF, -INF], &[INF, INF], &opts(1e-12, true));
         assert!(rep.converged);
-        assert_eq!(
-            st.products,
-            2 * rep.inner_iterations + st.shrinks + 1,
-            "{rep:?} {st:?}"
-        );
+        assert_eq!(st.products, 2 * rep.inner_iterations + st.shrinks + 1, "{rep:?} {st:?}");
     }
 }

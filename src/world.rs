@@ -14,10 +14,10 @@ use crate::cluster::{Flexibility, Jacobian, is_finite};
 use crate::contact::law::{ContactBounds, Law};
 use crate::contact::set::{ContactMemory, Memory, interface_for, joint_partners};
 use crate::contact::{ContactGeom, ContactKey, ContactKind, detect};
-use std::collections::HashSet;
 use crate::geometry::{Vec2, cw};
 use crate::model::{Interface, Load, Model};
 use crate::vi::{self, Problem};
+use std::collections::HashSet;
 use std::time::Instant;
 
 /// Library-level switches that are not part of the scene format.
@@ -160,8 +160,11 @@ impl World {
     }
 
     pub fn with_settings(model: Model, settings: Settings) -> World {
-        let bodies: Vec<Body> =
-            model.bodies.iter().map(|s| Body::new(s, &model.materials[s.material], model.physics.plane)).collect();
+        let bodies: Vec<Body> = model
+            .bodies
+            .iter()
+            .map(|s| Body::new(s, &model.materials[s.material], model.physics.plane))
+            .collect();
         let track = |body: usize, p: Vec2| TrackedPoint { body, initial: p, current: p };
         let load_points = model.loads.iter().map(|l| track(l.body, l.point)).collect();
         let monitors = model.monitors.iter().map(|m| track(m.body, m.point)).collect();
@@ -303,7 +306,15 @@ impl World {
                 let law = self.law(&geom, partner, memory, row);
                 row += law.rows();
                 let start_gap = if geom.g0 < 0.0 && geom.g0 > -self.allowance { 0.0 } else { geom.g0 };
-                Active { normal: geom.normal, anchor: [geom.point; 2], offset: start_gap, start_gap, geom, law, memory }
+                Active {
+                    normal: geom.normal,
+                    anchor: [geom.point; 2],
+                    offset: start_gap,
+                    start_gap,
+                    geom,
+                    law,
+                    memory,
+                }
             })
             .collect()
     }
@@ -377,7 +388,8 @@ impl World {
             z1[c.law.row..c.law.row + n].copy_from_slice(&warm[..n]);
         }
         let step = self.step_index + 1;
-        let mut report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
+        let mut report =
+            vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         let mut warnings = Vec::new();
         let mut run = |w: &sprs::CsMat<f64>, q: &[f64], z: &mut [f64], which: &str| {
             let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
@@ -408,7 +420,8 @@ impl World {
             refinements += 1;
         };
         let zero_g0 = 1e-12 * self.threshold;
-        let needs_second = contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.start_gap.abs() > zero_g0);
+        let needs_second =
+            contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.start_gap.abs() > zero_g0);
         let mut z2 = z1.clone();
         if needs_second {
             let mut q2 = q.clone();
@@ -683,7 +696,13 @@ fn translation(d: &Dofs) -> Vec2 {
 
 /// dbar = d^f + K⁻¹ Bᵀ z + K⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
 /// contacts' share doubled (math note §1.3 c).
-fn geometry_increment(jac: &Jacobian, flex: &Flexibility, df: &[Dofs], z: &[f64], impacting: &[bool]) -> Vec<Dofs> {
+fn geometry_increment(
+    jac: &Jacobian,
+    flex: &Flexibility,
+    df: &[Dofs],
+    z: &[f64],
+    impacting: &[bool],
+) -> Vec<Dofs> {
     let dp = jac.response(flex, z, |_| true);
     let dimp = jac.response(flex, z, |r| impacting[r]);
     (0..df.len()).map(|b| df[b] + dp[b] + dimp[b]).collect()

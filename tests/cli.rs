@@ -29,10 +29,19 @@ fn run_writes_the_output_contract() {
     let out = scratch("run");
     let o = pbdda(&["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_eq!(header(&out.join("bodies.csv")), "step,time,body,x,y,rotation,vx,vy,omega,strain_x,strain_y,strain_xy,stress_x,stress_y,stress_xy");
-    assert_eq!(header(&out.join("contacts.csv")), "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state");
+    assert_eq!(
+        header(&out.join("bodies.csv")),
+        "step,time,body,x,y,rotation,vx,vy,omega,strain_x,strain_y,strain_xy,stress_x,stress_y,stress_xy"
+    );
+    assert_eq!(
+        header(&out.join("contacts.csv")),
+        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state"
+    );
     assert_eq!(header(&out.join("monitors.csv")), "step,time,monitor,x,y,ux,uy,vx,vy");
-    assert_eq!(header(&out.join("steps.csv")), "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds");
+    assert_eq!(
+        header(&out.join("steps.csv")),
+        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds"
+    );
     // steps.csv: one row per step (100), bodies.csv: every step x 4 bodies (every = 1)
     let rows = |f: &str| std::fs::read_to_string(out.join(f)).unwrap().lines().count() - 1;
     assert_eq!(rows("steps.csv"), 100);
@@ -48,7 +57,8 @@ fn run_writes_the_output_contract() {
     assert!(!again.status.success());
     assert!(String::from_utf8_lossy(&again.stderr).contains("--overwrite"));
     assert_eq!(rows("steps.csv"), 100);
-    let over = pbdda(&["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap(), "--overwrite", "-q"]);
+    let over =
+        pbdda(&["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap(), "--overwrite", "-q"]);
     assert!(over.status.success());
     assert_eq!(rows("steps.csv"), 100);
     let _ = std::fs::remove_dir_all(&out);
@@ -59,7 +69,9 @@ fn bad_scene_fails_before_writing_anything() {
     let dir = scratch("bad");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = dir.join("bad.toml");
-    let text = std::fs::read_to_string(example("7_1_disk_heap.toml")).unwrap().replace("radius = 10.0", "radius = -10.0");
+    let text = std::fs::read_to_string(example("7_1_disk_heap.toml"))
+        .unwrap()
+        .replace("radius = 10.0", "radius = -10.0");
     std::fs::write(&scene, &text).unwrap();
     let line = text.lines().position(|l| l.contains("radius = -10.0")).unwrap() + 1;
     let out = dir.join("out");

@@ -47,12 +47,14 @@ fn check(scene: &str, name: &str, a: f64) {
         worst = worst.max((c - r).norm());
         worst_exact = worst_exact.max((c - exact).norm());
         if (c - r).norm() >= 1e-4 && first_off.is_none() {
-            first_off = Some(format!("step {}: centre ({}, {}) vs rigid ({}, {})", rec.step, c.x, c.y, r.x, r.y));
+            first_off =
+                Some(format!("step {}: centre ({}, {}) vs rigid ({}, {})", rec.step, c.x, c.y, r.x, r.y));
         }
         let gain = (rec.kinetic_energy - ke0) / ke0;
         worst_gain = worst_gain.max(gain);
         if gain > 1e-9 && first_gain.is_none() {
-            first_gain = Some(format!("step {}: kinetic energy {} > initial {ke0}", rec.step, rec.kinetic_energy));
+            first_gain =
+                Some(format!("step {}: kinetic energy {} > initial {ke0}", rec.step, rec.kinetic_energy));
         }
     }
     eprintln!(
@@ -60,7 +62,11 @@ fn check(scene: &str, name: &str, a: f64) {
     );
     assert!(impacts >= 2, "{name}: the body must actually hit the walls ({impacts} loaded contacts)");
     assert!(first_gain.is_none(), "{name}: gains energy, first at {}", first_gain.unwrap_or_default());
-    assert!(first_off.is_none(), "{name}: leaves the rigid path by 1e-4 m, first at {}", first_off.unwrap_or_default());
+    assert!(
+        first_off.is_none(),
+        "{name}: leaves the rigid path by 1e-4 m, first at {}",
+        first_off.unwrap_or_default()
+    );
 }
 
 #[test]

@@ -17,7 +17,9 @@ fn heap_forces_match_table_1_at_step_100() {
     run(&mut world, 100, |_, rec| last = Some(rec.clone()));
     let rec = last.expect("100 steps ran");
     assert_eq!(rec.step, 100);
-    for (a, b, expected) in [("d1", "d2", g_weight), ("d2", "d3", 2.0 * g_weight), ("d3", "floor", 3.0 * g_weight)] {
+    for (a, b, expected) in
+        [("d1", "d2", g_weight), ("d2", "d3", 2.0 * g_weight), ("d3", "floor", 3.0 * g_weight)]
+    {
         let c = between(&world, &rec, a, b);
         assert_eq!(c.len(), 1, "one contact between {a} and {b}");
         assert!(

@@ -28,8 +28,15 @@ fn staircase_interface_forces_match_statics() {
     for (a, b, x, f) in expected {
         let cs = between(&world, &rec, a, b);
         assert_eq!(cs.len(), 2, "{a}/{b}: an edge-edge joint gives two contacts");
-        let c = cs.iter().find(|c| (c.point.x - x).abs() < 1e-6).unwrap_or_else(|| panic!("{a}/{b}: no contact at x = {x}"));
-        assert!((c.normal_force - f).abs() <= 1e-7 * w, "{a}/{b} at x = {x}: {} N, expected {f} N", c.normal_force);
+        let c = cs
+            .iter()
+            .find(|c| (c.point.x - x).abs() < 1e-6)
+            .unwrap_or_else(|| panic!("{a}/{b}: no contact at x = {x}"));
+        assert!(
+            (c.normal_force - f).abs() <= 1e-7 * w,
+            "{a}/{b} at x = {x}: {} N, expected {f} N",
+            c.normal_force
+        );
         assert!(c.shear_force.abs() <= 1e-7 * w, "{a}/{b} at x = {x}: shear {} N", c.shear_force);
     }
 }

@@ -19,7 +19,13 @@ fn check_billiard(model: Model, a: f64) {
     run(&mut world, 2050, |w, rec| {
         let b = &w.bodies[ring];
         let exact = Vec2::new(fold(2.5 * rec.time, a), fold(5.0 * rec.time, a));
-        assert!((b.centroid - exact).norm() < 1e-6, "step {}: centre {} vs exact {}", rec.step, b.centroid, exact);
+        assert!(
+            (b.centroid - exact).norm() < 1e-6,
+            "step {}: centre {} vs exact {}",
+            rec.step,
+            b.centroid,
+            exact
+        );
         let v = Vec2::new(b.velocity[0], b.velocity[1]).norm();
         assert!((v - speed).abs() < 1e-9 * speed, "step {}: speed {v}", rec.step);
         assert!(b.rotation.abs() < 1e-9 && b.velocity[2].abs() < 1e-9, "step {}: rotation", rec.step);

@@ -39,7 +39,9 @@ fn pendulum_peak_forces_period_and_energy() {
         }
         deepest = deepest.max(c.norm() + 40.0 - 100.0);
     });
-    eprintln!("7.5: peaks {peak1} N at {t1} s, {peak2} N; heights {top_right}, {top_back}; penetration {deepest}");
+    eprintln!(
+        "7.5: peaks {peak1} N at {t1} s, {peak2} N; heights {top_right}, {top_back}; penetration {deepest}"
+    );
     assert!((peak1 - peak).abs() < 1e-3 * peak, "first peak {peak1} N vs {peak} N");
     assert!((peak2 - peak).abs() < 1e-3 * peak, "second peak {peak2} N vs {peak} N");
     assert!((t1 - t_period / 4.0).abs() <= dt, "first peak at {t1} s, exact {} s", t_period / 4.0);

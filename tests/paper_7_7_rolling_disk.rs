@@ -37,8 +37,18 @@ fn table_4_pure_rolling_contact_forces() {
             lever = w.load_points[0].current.y;
             let c = between(w, rec, "disk", "block");
             assert_eq!(c.len(), 1);
-            assert!((c[0].normal_force - g).abs() < 1e-3, "d = {d}, step {}: Fn = {}", rec.step, c[0].normal_force);
-            assert!((c[0].shear_force - fs_exact).abs() < 1e-3, "d = {d}, step {}: Fs = {}", rec.step, c[0].shear_force);
+            assert!(
+                (c[0].normal_force - g).abs() < 1e-3,
+                "d = {d}, step {}: Fn = {}",
+                rec.step,
+                c[0].normal_force
+            );
+            assert!(
+                (c[0].shear_force - fs_exact).abs() < 1e-3,
+                "d = {d}, step {}: Fs = {}",
+                rec.step,
+                c[0].shear_force
+            );
         });
     }
 }

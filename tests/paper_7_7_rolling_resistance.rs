@@ -61,11 +61,21 @@ fn table_5_rolling_couple_holds_the_disk() {
             );
             worst_m = worst_m.max((m - F * d).abs());
             worst_u = worst_u.max(ua.max(uo));
-            assert!((m - F * d).abs() < 1e-3, "d = {d}, step {}: M_r = {m} N m, expected {}", rec.step, F * d);
+            assert!(
+                (m - F * d).abs() < 1e-3,
+                "d = {d}, step {}: M_r = {m} N m, expected {}",
+                rec.step,
+                F * d
+            );
             assert!((c.normal_force - g).abs() < 1e-3, "d = {d}, step {}: Fn = {}", rec.step, c.normal_force);
             assert!((c.shear_force + F).abs() < 1e-3, "d = {d}, step {}: Fs = {}", rec.step, c.shear_force);
             assert!(ua < 1e-9 && uo < 1e-9, "d = {d}, step {}: U_A = {ua:e} m, U_O = {uo:e} m", rec.step);
-            assert!(w.bodies[disk].rotation.abs() < 1e-9, "d = {d}, step {}: rotation {}", rec.step, w.bodies[disk].rotation);
+            assert!(
+                w.bodies[disk].rotation.abs() < 1e-9,
+                "d = {d}, step {}: rotation {}",
+                rec.step,
+                w.bodies[disk].rotation
+            );
         });
         eprintln!("7.7 Table 5, d = {d}: worst |M_r - F d| = {worst_m:e} N m, worst |U| = {worst_u:e} m");
     }

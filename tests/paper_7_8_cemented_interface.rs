@@ -48,11 +48,21 @@ fn table_6_interface_tensions() {
             for (c, p, name) in [(cs[0], p1, "P1"), (cs[1], p2, "P2")] {
                 worst = worst.max((c.normal_force - p).abs());
                 assert_eq!(c.state, ContactState::Bonded, "h = {h}, step {}: {name} not bonded", rec.step);
-                assert!((c.normal_force - p).abs() < 1e-5, "h = {h}, step {}: {name} = {} N, expected {p} N", rec.step, c.normal_force);
+                assert!(
+                    (c.normal_force - p).abs() < 1e-5,
+                    "h = {h}, step {}: {name} = {} N, expected {p} N",
+                    rec.step,
+                    c.normal_force
+                );
             }
             let moved = (w.bodies[b2].centroid - c0).norm();
             assert!(moved < 1e-9, "h = {h}, step {}: B2 moved by {moved:e} m", rec.step);
-            assert!(w.bodies[b2].rotation.abs() < 1e-9, "h = {h}, step {}: B2 turned by {}", rec.step, w.bodies[b2].rotation);
+            assert!(
+                w.bodies[b2].rotation.abs() < 1e-9,
+                "h = {h}, step {}: B2 turned by {}",
+                rec.step,
+                w.bodies[b2].rotation
+            );
         });
         eprintln!("7.8 Table 6, h = {h}: worst |P - exact| = {worst:e} N");
     }
@@ -73,19 +83,37 @@ fn interface_breaks_when_pull_exceeds_strength() {
             assert!(!rec.events.is_empty(), "step 1: the interface must break");
             assert_eq!(cs.len(), 2, "step 1: two joints");
             let sum: f64 = cs.iter().map(|c| c.normal_force).sum();
-            eprintln!("7.8 break, step 1: P1 = {}, P2 = {}, events {:?}", cs[0].normal_force, cs[1].normal_force, rec.events);
+            eprintln!(
+                "7.8 break, step 1: P1 = {}, P2 = {}, events {:?}",
+                cs[0].normal_force, cs[1].normal_force, rec.events
+            );
             assert!((sum + T).abs() < 1e-5, "step 1: P1 + P2 = {sum} N, expected {}", -T);
             let v1 = (f - T) / MASS * dt;
             assert!((v - v1).abs() <= 1e-9 * v1, "step 1: v = {v}, expected {v1}");
         } else {
             assert!(rec.events.is_empty(), "step {}: {:?}", rec.step, rec.events);
             for c in &cs {
-                assert_ne!(c.state, ContactState::Bonded, "step {}: a broken joint is bonded again", rec.step);
-                assert!(c.normal_force >= 0.0, "step {}: tension {} N after breaking", rec.step, c.normal_force);
+                assert_ne!(
+                    c.state,
+                    ContactState::Bonded,
+                    "step {}: a broken joint is bonded again",
+                    rec.step
+                );
+                assert!(
+                    c.normal_force >= 0.0,
+                    "step {}: tension {} N after breaking",
+                    rec.step,
+                    c.normal_force
+                );
             }
             let dv = f / MASS * dt;
             worst = worst.max(((v - v_prev) - dv).abs() / dv);
-            assert!(((v - v_prev) - dv).abs() <= 1e-9 * dv, "step {}: dv = {}, expected {dv}", rec.step, v - v_prev);
+            assert!(
+                ((v - v_prev) - dv).abs() <= 1e-9 * dv,
+                "step {}: dv = {}, expected {dv}",
+                rec.step,
+                v - v_prev
+            );
         }
         v_prev = v;
     });

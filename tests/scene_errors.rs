@@ -147,19 +147,13 @@ fn fails(source: &str, expected: &str) {
     let got = format!("{} {}", e.line, e.key);
     assert_eq!(got, place, "{e}");
     assert!(e.message.contains(words), "{e}\nlacks {words:?}");
-    assert!(
-        e.to_string()
-            .starts_with(&format!("scene.toml:{}:", e.line)),
-        "{e}"
-    );
+    assert!(e.to_string().starts_with(&format!("scene.toml:{}:", e.line)), "{e}");
 }
 
 /// A second body after MINIMAL: `[[body]]` is line 15, its name line 16, shape line 17,
 /// material line 18, and `extra` starts on line 19.
 fn second_body(shape: &str, extra: &str) -> String {
-    append(&format!(
-        "[[body]]\nname = \"b2\"\nshape = \"{shape}\"\nmaterial = \"rock\"\n{extra}"
-    ))
+    append(&format!("[[body]]\nname = \"b2\"\nshape = \"{shape}\"\nmaterial = \"rock\"\n{extra}"))
 }
 
 /// A polygon as the second body: `vertices` is line 19.
@@ -180,9 +174,7 @@ fn interface(keys: &str) -> String {
 
 /// A load on `body` after MINIMAL: `[[load]]` line 15, `body` line 16, `history` line 19.
 fn load_on(body: &str, history: &str) -> String {
-    append(&format!(
-        "[[load]]\nbody = \"{body}\"\npoint = [0, 0]\nforce = [1, 0]\n{history}"
-    ))
+    append(&format!("[[load]]\nbody = \"{body}\"\npoint = [0, 0]\nforce = [1, 0]\n{history}"))
 }
 
 /// A monitor table (4 lines: header, name, body, point).
@@ -224,15 +216,8 @@ fn full_scene_gives_expected_model() {
     assert_eq!((default.tensile_strength, default.rolling), (2.0, 0.01));
     let pair = &m.interfaces[1];
     assert_eq!(pair.materials, Some([1, 0]));
-    assert!(
-        (pair.friction - 1.0).abs() < 1e-15,
-        "tan 45° = {}",
-        pair.friction
-    );
-    assert_eq!(
-        (pair.cohesion, pair.tensile_strength, pair.rolling),
-        (0.0, 0.0, 0.0)
-    );
+    assert!((pair.friction - 1.0).abs() < 1e-15, "tan 45° = {}", pair.friction);
+    assert_eq!((pair.cohesion, pair.tensile_strength, pair.rolling), (0.0, 0.0, 0.0));
 }
 
 #[test]
@@ -241,60 +226,28 @@ fn full_scene_bodies_loads_monitors() {
     assert_eq!(m.bodies.len(), 3);
     let d1 = &m.bodies[0];
     assert_eq!(d1.name, "d1");
-    assert_eq!(
-        d1.shape,
-        Shape::Disk {
-            center: v(0.0, 10.0),
-            radius: 10.0
-        }
-    );
-    assert_eq!(
-        (d1.model, d1.material, d1.fixed),
-        (BodyModel::Rigid, 0, false)
-    );
+    assert_eq!(d1.shape, Shape::Disk { center: v(0.0, 10.0), radius: 10.0 });
+    assert_eq!((d1.model, d1.material, d1.fixed), (BodyModel::Rigid, 0, false));
     assert_eq!((d1.velocity, d1.angular_velocity), (v(1.0, -2.0), 0.5));
     assert_eq!(d1.initial_stress, None);
 
     let r1 = &m.bodies[1];
-    assert_eq!(
-        r1.shape,
-        Shape::Ring {
-            center: v(30.0, 10.0),
-            outer: 5.0,
-            inner: 4.0
-        }
-    );
-    assert_eq!(
-        (r1.model, r1.material, r1.fixed),
-        (BodyModel::Rigid, 1, false)
-    );
+    assert_eq!(r1.shape, Shape::Ring { center: v(30.0, 10.0), outer: 5.0, inner: 4.0 });
+    assert_eq!((r1.model, r1.material, r1.fixed), (BodyModel::Rigid, 1, false));
     assert_eq!((r1.velocity, r1.angular_velocity), (Vec2::zeros(), 0.0));
 
     // the concave floor is given clockwise and must come back counter-clockwise
     let floor = &m.bodies[2];
-    let ccw = vec![
-        v(0.0, -1.0),
-        v(1.0, -1.0),
-        v(1.0, -0.5),
-        v(2.0, -0.5),
-        v(2.0, 0.0),
-        v(0.0, 0.0),
-    ];
+    let ccw = vec![v(0.0, -1.0), v(1.0, -1.0), v(1.0, -0.5), v(2.0, -0.5), v(2.0, 0.0), v(0.0, 0.0)];
     assert_eq!(floor.shape, Shape::Polygon { vertices: ccw });
     assert_eq!((floor.material, floor.fixed), (0, true));
 
     assert_eq!(m.loads.len(), 2);
     let l = &m.loads[0];
-    assert_eq!(
-        (l.body, l.point, l.force),
-        (0, v(0.0, 10.0), v(1000.0, 0.0))
-    );
+    assert_eq!((l.body, l.point, l.force), (0, v(0.0, 10.0), v(1000.0, 0.0)));
     assert_eq!(l.history, Some(vec![(0.0, 1.0), (1.0, 0.0)]));
     let l = &m.loads[1];
-    assert_eq!(
-        (l.body, l.point, l.force, l.history.clone()),
-        (1, v(30.0, 15.0), v(0.0, -5.0), None)
-    );
+    assert_eq!((l.body, l.point, l.force, l.history.clone()), (1, v(30.0, 15.0), v(0.0, -5.0), None));
 
     assert_eq!(m.monitors.len(), 1);
     let o = &m.monitors[0];
@@ -304,16 +257,10 @@ fn full_scene_bodies_loads_monitors() {
 #[test]
 fn minimal_scene_gets_the_contract_defaults() {
     let m = ok(MINIMAL);
-    assert_eq!(
-        (m.physics.gravity, m.physics.plane),
-        (Vec2::zeros(), Plane::Stress)
-    );
+    assert_eq!((m.physics.gravity, m.physics.plane), (Vec2::zeros(), Plane::Stress));
     assert_eq!(m.physics.velocity_carry, 1.0);
     assert_eq!(m.contact.threshold, None);
-    assert_eq!(
-        (m.solver.tolerance, m.solver.max_iterations),
-        (1e-8, 200_000)
-    );
+    assert_eq!((m.solver.tolerance, m.solver.max_iterations), (1e-8, 200_000));
     assert_eq!(m.output.every, 1);
     assert!(m.interfaces.is_empty() && m.loads.is_empty() && m.monitors.is_empty());
 }
@@ -321,12 +268,7 @@ fn minimal_scene_gets_the_contract_defaults() {
 #[test]
 fn end_gives_the_number_of_steps() {
     // 0.07 / 0.01 = 7.000000000000001 in f64: the 1e-9 tolerance keeps it at 7 steps
-    assert_eq!(
-        ok(&edit(5, "end = 0.07").replace("0.001", "0.01"))
-            .time
-            .steps,
-        7
-    );
+    assert_eq!(ok(&edit(5, "end = 0.07").replace("0.001", "0.01")).time.steps, 7);
     // a partial last step is a whole step: 0.0105 / 0.001 -> 11
     assert_eq!(ok(&edit(5, "end = 0.0105")).time.steps, 11);
 }
@@ -335,10 +277,7 @@ fn end_gives_the_number_of_steps() {
 fn integer_literals_are_accepted_for_reals() {
     assert_eq!(
         ok(&edit(13, "radius = 2")).bodies[0].shape,
-        Shape::Disk {
-            center: Vec2::zeros(),
-            radius: 2.0
-        }
+        Shape::Disk { center: Vec2::zeros(), radius: 2.0 }
     );
 }
 
@@ -346,10 +285,7 @@ fn integer_literals_are_accepted_for_reals() {
 
 #[test]
 fn unknown_key_in_a_table() {
-    fails(
-        &edit(13, "radiuss = 1.0"),
-        "13 body[0].radiuss: unknown key `radiuss`",
-    );
+    fails(&edit(13, "radiuss = 1.0"), "13 body[0].radiuss: unknown key `radiuss`");
 }
 
 #[test]
@@ -359,26 +295,17 @@ fn unknown_table() {
 
 #[test]
 fn wrong_type_string_for_number() {
-    fails(
-        &edit(13, "radius = \"big\""),
-        "13 body[0].radius: expected a number",
-    );
+    fails(&edit(13, "radius = \"big\""), "13 body[0].radius: expected a number");
 }
 
 #[test]
 fn wrong_type_float_for_integer() {
-    fails(
-        &edit(5, "steps = 2.5"),
-        "5 time.steps: expected a whole number",
-    );
+    fails(&edit(5, "steps = 2.5"), "5 time.steps: expected a whole number");
 }
 
 #[test]
 fn wrong_type_number_for_array() {
-    fails(
-        &edit(12, "center = 3.0"),
-        "12 body[0].center: expected an array",
-    );
+    fails(&edit(12, "center = 3.0"), "12 body[0].center: expected an array");
 }
 
 #[test]
@@ -394,22 +321,13 @@ fn nan_is_an_error() {
 #[test]
 fn infinity_is_an_error() {
     fails(&edit(4, "step = inf"), "4 time.step: finite");
-    fails(
-        &edit(12, "center = [0.0, -inf]"),
-        "12 body[0].center: finite",
-    );
-    fails(
-        &append("[physics]\ngravity = [nan, 0.0]\n"),
-        "16 physics.gravity: finite",
-    );
+    fails(&edit(12, "center = [0.0, -inf]"), "12 body[0].center: finite");
+    fails(&append("[physics]\ngravity = [nan, 0.0]\n"), "16 physics.gravity: finite");
 }
 
 #[test]
 fn vectors_need_exactly_two_numbers() {
-    fails(
-        &edit(12, "center = [0.0, 0.0, 1.0]"),
-        "12 body[0].center: 2 numbers (got 3)",
-    );
+    fails(&edit(12, "center = [0.0, 0.0, 1.0]"), "12 body[0].center: 2 numbers (got 3)");
 }
 
 #[test]
@@ -451,10 +369,7 @@ fn toml_syntax_errors_name_the_line() {
 
 #[test]
 fn step_must_be_positive() {
-    fails(
-        &edit(4, "step = 0.0"),
-        "4 time.step: must be positive (got 0)",
-    );
+    fails(&edit(4, "step = 0.0"), "4 time.step: must be positive (got 0)");
 }
 
 #[test]
@@ -482,51 +397,33 @@ fn end_must_be_positive_and_reach_a_step() {
 #[test]
 fn velocity_carry_in_zero_one() {
     let source = append("[physics]\nvelocity_carry = 1.5\n");
-    fails(
-        &source,
-        "16 physics.velocity_carry: between 0 and 1 (got 1.5)",
-    );
+    fails(&source, "16 physics.velocity_carry: between 0 and 1 (got 1.5)");
 }
 
 #[test]
 fn plane_is_stress_or_strain() {
     let source = append("[physics]\nplane = \"plain\"\n");
-    fails(
-        &source,
-        "16 physics.plane: one of \"stress\", \"strain\" (got \"plain\")",
-    );
+    fails(&source, "16 physics.plane: one of \"stress\", \"strain\" (got \"plain\")");
 }
 
 #[test]
 fn contact_threshold_must_be_positive() {
-    fails(
-        &append("[contact]\nthreshold = 0.0\n"),
-        "16 contact.threshold: positive",
-    );
+    fails(&append("[contact]\nthreshold = 0.0\n"), "16 contact.threshold: positive");
 }
 
 #[test]
 fn solver_tolerance_must_be_positive() {
-    fails(
-        &append("[solver]\ntolerance = -1e-8\n"),
-        "16 solver.tolerance: positive",
-    );
+    fails(&append("[solver]\ntolerance = -1e-8\n"), "16 solver.tolerance: positive");
 }
 
 #[test]
 fn solver_max_iterations_at_least_one() {
-    fails(
-        &append("[solver]\nmax_iterations = 0\n"),
-        "16 solver.max_iterations: at least 1",
-    );
+    fails(&append("[solver]\nmax_iterations = 0\n"), "16 solver.max_iterations: at least 1");
 }
 
 #[test]
 fn output_every_at_least_one() {
-    fails(
-        &append("[output]\nevery = 0\n"),
-        "16 output.every: at least 1",
-    );
+    fails(&append("[output]\nevery = 0\n"), "16 output.every: at least 1");
 }
 
 // ------------------------------------------------------------------ materials
@@ -538,31 +435,19 @@ fn density_must_be_positive() {
 
 #[test]
 fn young_must_be_positive() {
-    fails(
-        &edit(8, "density = 1.0\nyoung = -5.0"),
-        "9 material[0].young: positive",
-    );
+    fails(&edit(8, "density = 1.0\nyoung = -5.0"), "9 material[0].young: positive");
 }
 
 #[test]
 fn poisson_in_zero_to_half() {
-    fails(
-        &edit(8, "density = 1.0\npoisson = 0.5"),
-        "9 material[0].poisson: below 0.5",
-    );
-    fails(
-        &edit(8, "density = 1.0\npoisson = -0.1"),
-        "9 material[0].poisson: at least 0",
-    );
+    fails(&edit(8, "density = 1.0\npoisson = 0.5"), "9 material[0].poisson: below 0.5");
+    fails(&edit(8, "density = 1.0\npoisson = -0.1"), "9 material[0].poisson: at least 0");
 }
 
 #[test]
 fn duplicate_material_name_names_the_second() {
     let source = append("[[material]]\nname = \"rock\"\ndensity = 1.0\n");
-    fails(
-        &source,
-        "16 material[1].name: duplicate material name \"rock\"",
-    );
+    fails(&source, "16 material[1].name: duplicate material name \"rock\"");
 }
 
 // ------------------------------------------------------------------ interfaces
@@ -578,19 +463,13 @@ fn one_interface_per_unordered_material_pair() {
     let sand = "[[material]]\nname = \"sand\"\ndensity = 1600.0\n"; // lines 15-17
     let pairs = "[[interface]]\nmaterials = [\"rock\", \"sand\"]\n\
                  [[interface]]\nmaterials = [\"sand\", \"rock\"]\n"; // lines 18-21
-    fails(
-        &append(&format!("{sand}{pairs}")),
-        "21 interface[1].materials: same pair",
-    );
+    fails(&append(&format!("{sand}{pairs}")), "21 interface[1].materials: same pair");
 }
 
 #[test]
 fn interface_materials_must_exist() {
     let source = interface("materials = [\"rock\", \"clay\"]\n");
-    fails(
-        &source,
-        "16 interface[0].materials[1]: unknown material \"clay\"",
-    );
+    fails(&source, "16 interface[0].materials[1]: unknown material \"clay\"");
 }
 
 #[test]
@@ -607,20 +486,14 @@ fn friction_and_friction_angle_not_both() {
 
 #[test]
 fn friction_angle_below_ninety_degrees() {
-    fails(
-        &interface("friction_angle = 90.0\n"),
-        "16 interface[0].friction_angle: below 90",
-    );
+    fails(&interface("friction_angle = 90.0\n"), "16 interface[0].friction_angle: below 90");
 }
 
 #[test]
 fn interface_coefficients_not_negative() {
     for key in ["friction", "cohesion", "tensile_strength", "rolling"] {
         let source = interface(&format!("{key} = -1.0\n"));
-        fails(
-            &source,
-            &format!("16 interface[0].{key}: must not be negative (got -1)"),
-        );
+        fails(&source, &format!("16 interface[0].{key}: must not be negative (got -1)"));
     }
 }
 
@@ -640,43 +513,28 @@ fn body_material_must_exist() {
 
 #[test]
 fn unknown_shape() {
-    fails(
-        &edit(11, "shape = \"square\""),
-        "11 body[0].shape: must be one of",
-    );
+    fails(&edit(11, "shape = \"square\""), "11 body[0].shape: must be one of");
 }
 
 #[test]
 fn unknown_model() {
-    fails(
-        &body_with("model = \"elastic\""),
-        "15 body[0].model: must be one of",
-    );
+    fails(&body_with("model = \"elastic\""), "15 body[0].model: must be one of");
 }
 
 #[test]
 fn disk_radius_must_be_positive() {
-    fails(
-        &edit(13, "radius = -1"),
-        "13 body[0].radius: radius must be positive (got -1)",
-    );
+    fails(&edit(13, "radius = -1"), "13 body[0].radius: radius must be positive (got -1)");
 }
 
 #[test]
 fn disk_needs_radius() {
-    fails(
-        &edit(13, ""),
-        "9 body[0].radius: a disk body needs `radius`",
-    );
+    fails(&edit(13, ""), "9 body[0].radius: a disk body needs `radius`");
 }
 
 #[test]
 fn vertices_on_a_disk() {
     let source = edit(13, "radius = 1.0\nvertices = [[0, 0], [1, 0], [0, 1]]");
-    fails(
-        &source,
-        "14 body[0].vertices: `vertices` is not used by a disk body",
-    );
+    fails(&source, "14 body[0].vertices: `vertices` is not used by a disk body");
 }
 
 #[test]
@@ -688,10 +546,7 @@ fn inner_radius_on_a_disk() {
 #[test]
 fn ring_inner_radius_below_radius() {
     assert!(parse(&ring("1.0", "0.5"), "scene.toml").is_ok());
-    fails(
-        &ring("1.0", "1.0"),
-        "21 body[1].inner_radius: less than radius",
-    );
+    fails(&ring("1.0", "1.0"), "21 body[1].inner_radius: less than radius");
 }
 
 #[test]
@@ -702,17 +557,12 @@ fn ring_inner_radius_positive() {
 #[test]
 fn ring_needs_inner_radius() {
     let source = second_body("ring", "center = [5.0, 0.0]\nradius = 1.0\n");
-    fails(
-        &source,
-        "15 body[1].inner_radius: a ring body needs `inner_radius`",
-    );
+    fails(&source, "15 body[1].inner_radius: a ring body needs `inner_radius`");
 }
 
 #[test]
 fn counter_clockwise_polygon_is_kept() {
-    let kept = ok(&polygon("[[0, 0], [1, 0], [0, 1]]")).bodies[1]
-        .shape
-        .clone();
+    let kept = ok(&polygon("[[0, 0], [1, 0], [0, 1]]")).bodies[1].shape.clone();
     let ccw = vec![Vec2::zeros(), v(1.0, 0.0), v(0.0, 1.0)];
     assert_eq!(kept, Shape::Polygon { vertices: ccw });
 }
@@ -722,27 +572,18 @@ fn self_intersecting_polygon() {
     let bow_tie = polygon("[[0, 0], [1, 1], [1, 0], [0, 1]]");
     fails(&bow_tie, "19 body[1].vertices: intersects itself");
     // a flat triangle folds back on itself
-    fails(
-        &polygon("[[0, 0], [1, 0], [2, 0]]"),
-        "19 body[1].vertices: intersects itself",
-    );
+    fails(&polygon("[[0, 0], [1, 0], [2, 0]]"), "19 body[1].vertices: intersects itself");
 }
 
 #[test]
 fn polygon_needs_three_vertices() {
-    fails(
-        &polygon("[[0, 0], [1, 0]]"),
-        "19 body[1].vertices: at least 3 vertices (got 2)",
-    );
+    fails(&polygon("[[0, 0], [1, 0]]"), "19 body[1].vertices: at least 3 vertices (got 2)");
 }
 
 #[test]
 fn polygon_zero_length_edge() {
     let source = polygon("[[0, 0], [1, 0], [1, 0], [0, 1]]");
-    fails(
-        &source,
-        "19 body[1].vertices: zero-length edge vertices[1]-vertices[2]",
-    );
+    fails(&source, "19 body[1].vertices: zero-length edge vertices[1]-vertices[2]");
 }
 
 #[test]
@@ -756,52 +597,31 @@ fn polygon_zero_area() {
 #[test]
 fn polygon_vertices_are_finite_pairs() {
     let source = polygon("[[0, 0], [1, 0], [1, 1, 1]]");
-    fails(
-        &source,
-        "19 body[1].vertices: vertices[2] must have 2 numbers",
-    );
-    fails(
-        &polygon("[[0, 0], [1, 0], [0, nan]]"),
-        "19 body[1].vertices: finite",
-    );
+    fails(&source, "19 body[1].vertices: vertices[2] must have 2 numbers");
+    fails(&polygon("[[0, 0], [1, 0], [0, nan]]"), "19 body[1].vertices: finite");
 }
 
 #[test]
 fn center_on_a_polygon() {
-    let source = second_body(
-        "polygon",
-        "center = [0, 0]\nvertices = [[0, 0], [1, 0], [0, 1]]\n",
-    );
+    let source = second_body("polygon", "center = [0, 0]\nvertices = [[0, 0], [1, 0], [0, 1]]\n");
     fails(&source, "19 body[1].center: not used by a polygon");
 }
 
 #[test]
 fn polygon_needs_vertices() {
-    fails(
-        &second_body("polygon", ""),
-        "15 body[1].vertices: needs `vertices`",
-    );
+    fails(&second_body("polygon", ""), "15 body[1].vertices: needs `vertices`");
 }
 
 #[test]
 fn initial_stress_only_for_deformable_bodies() {
     let source = body_with("initial_stress = [1.0, 2.0, 0.0]");
-    fails(
-        &source,
-        "15 body[0].initial_stress: only for deformable bodies",
-    );
+    fails(&source, "15 body[0].initial_stress: only for deformable bodies");
 }
 
 #[test]
 fn velocity_is_a_finite_pair() {
-    fails(
-        &body_with("velocity = [1.0]"),
-        "15 body[0].velocity: 2 numbers (got 1)",
-    );
-    fails(
-        &body_with("angular_velocity = nan"),
-        "15 body[0].angular_velocity: finite",
-    );
+    fails(&body_with("velocity = [1.0]"), "15 body[0].velocity: 2 numbers (got 1)");
+    fails(&body_with("angular_velocity = nan"), "15 body[0].angular_velocity: finite");
 }
 
 // ------------------------------------------------------------------ not supported yet
@@ -809,22 +629,13 @@ fn velocity_is_a_finite_pair() {
 #[test]
 fn mesh_shape_is_not_supported_yet() {
     let mesh = second_body("mesh", "file = \"meshes/slab.msh\"\n");
-    fails(
-        &mesh,
-        "17 body[1].shape: shape = \"mesh\" is not supported yet",
-    );
+    fails(&mesh, "17 body[1].shape: shape = \"mesh\" is not supported yet");
 }
 
 #[test]
 fn mesh_keys_are_not_supported_yet() {
-    fails(
-        &body_with("file = \"slab.msh\""),
-        "15 body[0].file: not supported yet",
-    );
-    fails(
-        &body_with("physical = \"slab\""),
-        "15 body[0].physical: not supported yet",
-    );
+    fails(&body_with("file = \"slab.msh\""), "15 body[0].file: not supported yet");
+    fails(&body_with("physical = \"slab\""), "15 body[0].physical: not supported yet");
 }
 
 #[test]
@@ -852,10 +663,7 @@ fn deformable_body_with_initial_stress_parses() {
 #[test]
 fn connector_is_not_supported_yet() {
     let source = append("[[connector]]\nkind = \"spring\"\nbodies = [\"d1\", \"d1\"]\n");
-    fails(
-        &source,
-        "15 connector[0]: [[connector]] is not supported yet",
-    );
+    fails(&source, "15 connector[0]: [[connector]] is not supported yet");
 }
 
 // ------------------------------------------------------------------ loads and monitors
@@ -876,10 +684,7 @@ fn load_history_times_increase_strictly() {
 
 #[test]
 fn load_history_is_pairs_at_least_one() {
-    fails(
-        &load_on("d1", "history = []\n"),
-        "19 load[0].history: at least one",
-    );
+    fails(&load_on("d1", "history = []\n"), "19 load[0].history: at least one");
     let triple = load_on("d1", "history = [[0, 1, 2]]\n");
     fails(&triple, "19 load[0].history: history[0] must have 2");
 }
@@ -901,10 +706,7 @@ fn duplicate_monitor_name_names_the_second() {
 #[test]
 fn display_reads_file_line_column_key_message() {
     let e = rejected(&edit(13, "radius = -1"));
-    assert_eq!(
-        e.to_string(),
-        "scene.toml:13:1: body[0].radius: radius must be positive (got -1)"
-    );
+    assert_eq!(e.to_string(), "scene.toml:13:1: body[0].radius: radius must be positive (got -1)");
     assert_eq!((e.file.as_str(), e.column), ("scene.toml", 1));
     let e = rejected(&edit(13, "  radius = -1"));
     assert_eq!((e.line, e.column), (13, 3));
@@ -917,19 +719,11 @@ fn diagnostic_points_at_the_offending_line() {
     let labels: Vec<_> = e.labels().into_iter().flatten().collect();
     assert_eq!(labels.len(), 1);
     let offset: usize = MINIMAL.lines().take(12).map(|l| l.len() + 1).sum();
-    assert_eq!(
-        (labels[0].offset(), labels[0].len()),
-        (offset, "radius = -1".len())
-    );
+    assert_eq!((labels[0].offset(), labels[0].len()), (offset, "radius = -1".len()));
     let mut out = String::new();
     let handler = GraphicalReportHandler::new_themed(GraphicalTheme::unicode_nocolor());
-    handler
-        .render_report(&mut out, &e)
-        .expect("render to a String");
-    assert!(
-        out.contains("radius = -1") && out.contains("scene.toml:13:1"),
-        "{out}"
-    );
+    handler.render_report(&mut out, &e).expect("render to a String");
+    assert!(out.contains("radius = -1") && out.contains("scene.toml:13:1"), "{out}");
 }
 
 #[test]
@@ -944,11 +738,7 @@ fn load_reads_files_and_names_unreadable_ones() {
     assert_eq!((e.file, e.line), (path.display().to_string(), 13));
     let missing = dir.join("missing.toml");
     let e = load(&missing).expect_err("unreadable");
-    assert!(
-        e.to_string()
-            .starts_with(&format!("{}: cannot read", missing.display())),
-        "{e}"
-    );
+    assert!(e.to_string().starts_with(&format!("{}: cannot read", missing.display())), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

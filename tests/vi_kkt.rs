@@ -6,8 +6,7 @@
 
 use nalgebra::DMatrix;
 use pbdda::vi::{
-    BoundRule, Correction, FixedBounds, Options, Problem, Report, Status, Workspace, solve,
-    solve_with,
+    BoundRule, Correction, FixedBounds, Options, Problem, Report, Status, Workspace, solve, solve_with,
 };
 use proptest::prelude::*;
 use sprs::{CsMat, TriMat};
@@ -72,27 +71,14 @@ fn random_w(rng: &mut Rng, m: usize, n: usize, scale: f64) -> DMatrix<f64> {
 /// the KKT conditions.
 fn constructed_vi(rng: &mut Rng, w: &DMatrix<f64>, zscale: f64) -> Constructed {
     let m = w.nrows();
-    let (mut lo, mut hi, mut zs, mut lam) =
-        (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
+    let (mut lo, mut hi, mut zs, mut lam) = (vec![0.0; m], vec![0.0; m], vec![0.0; m], vec![0.0; m]);
     let (mut free, mut degenerate) = (Vec::new(), Vec::new());
     let gscale = zscale * w.diagonal().max();
     for i in 0..m {
         let c = rng.range(-1.0, 1.0) * zscale;
-        lo[i] = if rng.below(3) == 0 {
-            f64::NEG_INFINITY
-        } else {
-            c - rng.unit() * zscale
-        };
-        hi[i] = if rng.below(3) == 0 {
-            f64::INFINITY
-        } else {
-            c + rng.unit() * zscale
-        };
-        let mult = if rng.below(5) == 0 {
-            0.0
-        } else {
-            rng.unit() * gscale
-        };
+        lo[i] = if rng.below(3) == 0 { f64::NEG_INFINITY } else { c - rng.unit() * zscale };
+        hi[i] = if rng.below(3) == 0 { f64::INFINITY } else { c + rng.unit() * zscale };
+        let mult = if rng.below(5) == 0 { 0.0 } else { rng.unit() * gscale };
         match rng.below(3) {
             0 if lo[i].is_finite() => {
                 zs[i] = lo[i];
@@ -115,14 +101,7 @@ fn constructed_vi(rng: &mut Rng, w: &DMatrix<f64>, zscale: f64) -> Constructed {
     }
     let wz = w * DMatrix::from_column_slice(m, 1, &zs);
     let q = (0..m).map(|i| lam[i] - wz[i]).collect();
-    Constructed {
-        q,
-        lo,
-        hi,
-        zs,
-        free,
-        degenerate,
-    }
+    Constructed { q, lo, hi, zs, free, degenerate }
 }
 
 struct Constructed {
@@ -153,14 +132,7 @@ fn gap(w: &DMatrix<f64>, q: &[f64], z: &[f64]) -> Vec<f64> {
 /// (G_j <= gtol), otherwise |G_j| <= gtol, with `gtol = eps D_j Z` (D_j <= ||W||) plus the
 /// round-off of forming q + W z, 1e-12 (||q||_inf + ||W||_inf Z). lo <= z <= hi must hold
 /// exactly.
-fn check_kkt(
-    w: &DMatrix<f64>,
-    q: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    z: &[f64],
-    eps: f64,
-) -> Result<(), String> {
+fn check_kkt(w: &DMatrix<f64>, q: &[f64], lo: &[f64], hi: &[f64], z: &[f64], eps: f64) -> Result<(), String> {
     check_kkt_slack(w, q, lo, hi, z, eps, 0.0)
 }
 
@@ -179,17 +151,12 @@ fn check_kkt_slack(
     let g = gap(w, q, z);
     let zn = z.iter().fold(1.0f64, |a, v| a.max(v.abs()));
     let qn = q.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    let wn = (0..w.nrows())
-        .map(|i| w.row(i).iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max);
+    let wn = (0..w.nrows()).map(|i| w.row(i).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max);
     let round = 1e-12 * (qn + wn * zn);
     let ztol = eps * zn * (1.0 + 1e-9) + slack;
     for j in 0..z.len() {
         if !(lo[j] - slack <= z[j] && z[j] <= hi[j] + slack) {
-            return Err(format!(
-                "row {j}: z = {} outside [{}, {}]",
-                z[j], lo[j], hi[j]
-            ));
+            return Err(format!("row {j}: z = {} outside [{}, {}]", z[j], lo[j], hi[j]));
         }
         let gtol = eps * w[(j, j)].max(0.0) * zn + round;
         let at_lo = z[j] - lo[j] <= ztol;
@@ -225,48 +192,31 @@ fn face_condition(w: &DMatrix<f64>, c: &Constructed) -> f64 {
             .free
             .iter()
             .copied()
-            .chain(
-                deg.iter()
-                    .enumerate()
-                    .filter(|(b, _)| mask >> b & 1 == 1)
-                    .map(|(_, &j)| j),
-            )
+            .chain(deg.iter().enumerate().filter(|(b, _)| mask >> b & 1 == 1).map(|(_, &j)| j))
             .collect();
         if rows.is_empty() {
             continue;
         }
-        let sub = DMatrix::from_fn(rows.len(), rows.len(), |i, j| {
-            w[(rows[i], rows[j])] * s(rows[i]) * s(rows[j])
-        });
+        let sub =
+            DMatrix::from_fn(rows.len(), rows.len(), |i, j| w[(rows[i], rows[j])] * s(rows[i]) * s(rows[j]));
         let ev = sub.symmetric_eigenvalues();
         let mx = ev.max();
         if mx <= 0.0 {
             continue;
         }
-        let mn = ev
-            .iter()
-            .copied()
-            .filter(|&e| e > 1e-11 * mx)
-            .fold(f64::INFINITY, f64::min);
+        let mn = ev.iter().copied().filter(|&e| e > 1e-11 * mx).fold(f64::INFINITY, f64::min);
         worst = worst.max(mx / mn);
     }
     worst
 }
 
 fn opts(tol: f64, jacobi: bool) -> Options {
-    Options {
-        tolerance: tol,
-        max_iterations: 2_000_000,
-        max_outer: 50,
-        jacobi,
-    }
+    Options { tolerance: tol, max_iterations: 2_000_000, max_outer: 50, jacobi }
 }
 
 /// ||W||_inf (max absolute row sum).
 fn w_norm(w: &DMatrix<f64>) -> f64 {
-    (0..w.nrows())
-        .map(|i| w.row(i).iter().map(|v| v.abs()).sum::<f64>())
-        .fold(0.0, f64::max)
+    (0..w.nrows()).map(|i| w.row(i).iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
 }
 
 /// Coulomb friction with cohesion (math note §4.1, eq. 19): rows come in (normal, tangent)
@@ -292,21 +242,11 @@ impl BoundRule for Coulomb {
 /// itself (the QVI fixed point). Tolerances as in [`check_kkt`], plus a slack of
 /// eps (1 + max|bound|) on the box: the solver stops when the box moved by at most
 /// eps max(1, max|finite bound|) between its last two passes (math note §4.3).
-fn check_coulomb(
-    w: &DMatrix<f64>,
-    q: &[f64],
-    rule: &mut Coulomb,
-    z: &[f64],
-    eps: f64,
-) -> Result<(), String> {
+fn check_coulomb(w: &DMatrix<f64>, q: &[f64], rule: &mut Coulomb, z: &[f64], eps: f64) -> Result<(), String> {
     let m = z.len();
     let (mut lo, mut hi) = (vec![0.0; m], vec![0.0; m]);
     rule.bounds(z, &mut lo, &mut hi);
-    let bmax = hi
-        .iter()
-        .copied()
-        .filter(|h| h.is_finite())
-        .fold(0.0, f64::max);
+    let bmax = hi.iter().copied().filter(|h| h.is_finite()).fold(0.0, f64::max);
     check_kkt_slack(w, q, &lo, &hi, z, eps, eps * (1.0 + bmax))
 }
 
@@ -328,12 +268,7 @@ fn disk_row(rng: &mut Rng) -> (DMatrix<f64>, Vec<f64>) {
         cons.push((k, [0.0, -r], None, [0.0, 1.0]));
     }
     for k in 0..2 {
-        cons.push((
-            k + 1,
-            [-radius[k + 1], 0.0],
-            Some((k, [radius[k], 0.0])),
-            [1.0, 0.0],
-        ));
+        cons.push((k + 1, [-radius[k + 1], 0.0], Some((k, [radius[k], 0.0])), [1.0, 0.0]));
     }
     let m = 2 * cons.len();
     let mut b = DMatrix::zeros(m, 9);
@@ -366,12 +301,7 @@ fn disk_row(rng: &mut Rng) -> (DMatrix<f64>, Vec<f64>) {
     ((&w + w.transpose()) * 0.5, q)
 }
 
-fn run(
-    w: &CsMat<f64>,
-    q: &[f64],
-    rule: &mut dyn BoundRule,
-    o: &Options,
-) -> (Report, Vec<f64>, Workspace) {
+fn run(w: &CsMat<f64>, q: &[f64], rule: &mut dyn BoundRule, o: &Options) -> (Report, Vec<f64>, Workspace) {
     let mut ws = Workspace::new();
     let mut z = vec![0.0; q.len()];
     let rep = solve_with(&mut ws, &Problem { w, q }, rule, &mut z, o);
@@ -502,10 +432,8 @@ fn chain(mass: &[f64], vel: &[f64], pairs: &[(usize, usize)]) -> (DMatrix<f64>, 
         b[(k, l)] = -1.0;
         q[k] = (vel[r] - vel[l]) * dt;
     }
-    let minv = DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(
-        nb,
-        mass.iter().map(|m| dt * dt / 2.0 / m),
-    ));
+    let minv =
+        DMatrix::from_diagonal(&nalgebra::DVector::from_iterator(nb, mass.iter().map(|m| dt * dt / 2.0 / m)));
     let w = &b * minv * b.transpose();
     ((&w + w.transpose()) * 0.5, q)
 }
@@ -533,15 +461,8 @@ fn jacobi_on_off_same_wz_badly_scaled() {
     let (lo, hi) = (vec![0.0; m], vec![f64::INFINITY; m]);
     let mut out = Vec::new();
     for jacobi in [true, false] {
-        let (rep, z, ws) = run(
-            &wc,
-            &q,
-            &mut FixedBounds {
-                lo: lo.clone(),
-                hi: hi.clone(),
-            },
-            &opts(1e-10, jacobi),
-        );
+        let (rep, z, ws) =
+            run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, jacobi));
         println!("jacobi={jacobi}: {rep:?} {:?}\n  z = {z:?}", ws.stats());
         assert!(rep.converged, "jacobi={jacobi}: {rep:?}");
         check_kkt(&w, &q, &lo, &hi, &z, 1e-10).unwrap();
@@ -565,38 +486,18 @@ fn jacobi_on_off_same_wz_badly_scaled() {
 fn jacobi_needed_for_heavy_heavy_contact() {
     let mass = [1e12, 1e12, 1.0, 2.0, 0.5, 1.0, 1.0, 3.0];
     let vel = [0.0, 0.0, -1.0, -2.0, -3.0, -4.0, 2.0, 1.0];
-    let (w, q) = chain(
-        &mass,
-        &vel,
-        &[(6, 7), (7, 0), (0, 1), (1, 2), (2, 3), (3, 4), (4, 5)],
-    );
+    let (w, q) = chain(&mass, &vel, &[(6, 7), (7, 0), (0, 1), (1, 2), (2, 3), (3, 4), (4, 5)]);
     let m = q.len();
     let wc = to_csr(&w);
     let (lo, hi) = (vec![0.0; m], vec![f64::INFINITY; m]);
-    let (rep, z, ws) = run(
-        &wc,
-        &q,
-        &mut FixedBounds {
-            lo: lo.clone(),
-            hi: hi.clone(),
-        },
-        &opts(1e-10, true),
-    );
+    let (rep, z, ws) = run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, true));
     println!("jacobi: {rep:?} {:?}", ws.stats());
     assert!(rep.converged);
     check_kkt(&w, &q, &lo, &hi, &z, 1e-10).unwrap();
     assert!(z[2] > 0.0, "the heavy-heavy row carries force");
     let mut o = opts(1e-10, false);
     o.max_iterations = 20_000;
-    let (rep, z, ws) = run(
-        &wc,
-        &q,
-        &mut FixedBounds {
-            lo: lo.clone(),
-            hi: hi.clone(),
-        },
-        &o,
-    );
+    let (rep, z, ws) = run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &o);
     println!("no jacobi: {rep:?} {:?}", ws.stats());
     assert!(!rep.converged && ws.stats().status == Status::IterationLimit);
     assert!(z.iter().zip(&lo).all(|(z, l)| z.is_finite() && z >= l));
@@ -627,17 +528,9 @@ fn grid_network(nx: usize, ny: usize, seed: u64, vamp: f64) -> (CsMat<f64>, Vec<
         for dir in [n, [n[1], -n[0]]] {
             // contact point midway: arm −0.5 n from A, +0.5 n from B; r × dir
             let ca = -0.5 * n[0] * dir[1] + 0.5 * n[1] * dir[0];
-            trip.extend([
-                (row, 3 * a, dir[0]),
-                (row, 3 * a + 1, dir[1]),
-                (row, 3 * a + 2, ca),
-            ]);
+            trip.extend([(row, 3 * a, dir[0]), (row, 3 * a + 1, dir[1]), (row, 3 * a + 2, ca)]);
             if let Some(b) = b {
-                trip.extend([
-                    (row, 3 * b, -dir[0]),
-                    (row, 3 * b + 1, -dir[1]),
-                    (row, 3 * b + 2, ca),
-                ]);
+                trip.extend([(row, 3 * b, -dir[0]), (row, 3 * b + 1, -dir[1]), (row, 3 * b + 2, ca)]);
             }
             row += 1;
         }
@@ -667,19 +560,9 @@ fn grid_network(nx: usize, ny: usize, seed: u64, vamp: f64) -> (CsMat<f64>, Vec<
     let btr: CsMat<f64> = b.transpose_view().to_csr();
     let w: CsMat<f64> = &bscaled * &btr;
     let df: Vec<f64> = (0..3 * nb)
-        .map(|j| {
-            rng.range(-vamp, vamp) * dt
-                - if j % 3 == 1 {
-                    dt * dt / 2.0 * 10.0
-                } else {
-                    0.0
-                }
-        })
+        .map(|j| rng.range(-vamp, vamp) * dt - if j % 3 == 1 { dt * dt / 2.0 * 10.0 } else { 0.0 })
         .collect();
-    let q = b
-        .outer_iterator()
-        .map(|r| r.iter().map(|(j, &x)| x * df[j]).sum::<f64>())
-        .collect();
+    let q = b.outer_iterator().map(|r| r.iter().map(|(j, &x)| x * df[j]).sum::<f64>()).collect();
     (w, q)
 }
 
@@ -687,9 +570,7 @@ fn grid_network(nx: usize, ny: usize, seed: u64, vamp: f64) -> (CsMat<f64>, Vec<
 fn frictionless(m: usize) -> FixedBounds {
     FixedBounds {
         lo: vec![0.0; m],
-        hi: (0..m)
-            .map(|i| if i % 2 == 0 { f64::INFINITY } else { 0.0 })
-            .collect(),
+        hi: (0..m).map(|i| if i % 2 == 0 { f64::INFINITY } else { 0.0 }).collect(),
     }
 }
 
@@ -706,10 +587,7 @@ fn correction_comparison() {
         ws.correction = correction;
         let mut count = |w: &CsMat<f64>, q: &[f64], rule: &mut dyn BoundRule| {
             let mut z = vec![0.0; q.len()];
-            let o = Options {
-                max_outer: 1000,
-                ..opts(eps, true)
-            };
+            let o = Options { max_outer: 1000, ..opts(eps, true) };
             let rep = solve_with(&mut ws, &Problem { w, q }, rule, &mut z, &o);
             assert!(rep.converged, "{correction:?}: {rep:?}");
             ws.stats().products
@@ -730,9 +608,7 @@ fn correction_comparison() {
             let (w, q) = disk_row(&mut Rng::new(seed));
             p_qvi += count(&to_csr(&w), &q, &mut Coulomb { mu: 0.3, c: 0.0 });
         }
-        println!(
-            "{correction:?}: {cases} box VIs {p_box} products; 60 disk-row QVIs {p_qvi} products"
-        );
+        println!("{correction:?}: {cases} box VIs {p_box} products; 60 disk-row QVIs {p_qvi} products");
     }
 }
 
@@ -762,13 +638,7 @@ fn parallel_equals_serial() {
         }
         assert_eq!(res[0].0, res[1].0);
         assert_eq!(res[0].2, res[1].2);
-        assert!(
-            res[0]
-                .1
-                .iter()
-                .zip(&res[1].1)
-                .all(|(a, b)| a.to_bits() == b.to_bits())
-        );
+        assert!(res[0].1.iter().zip(&res[1].1).all(|(a, b)| a.to_bits() == b.to_bits()));
     }
 }
 
@@ -783,30 +653,16 @@ fn timing_contact_networks() {
     for (nx, ny) in [(50, 50), (100, 100)] {
         let (w, q) = grid_network(nx, ny, 7, 0.1);
         let m = q.len();
-        println!(
-            "grid {nx}x{ny}: {m} rows, {} nnz ({:.1}/row)",
-            w.nnz(),
-            w.nnz() as f64 / m as f64
-        );
+        println!("grid {nx}x{ny}: {m} rows, {} nnz ({:.1}/row)", w.nnz(), w.nnz() as f64 / m as f64);
         let mut rng = Rng::new(99);
-        let q2: Vec<f64> = q
-            .iter()
-            .map(|v| v * (1.0 + 0.01 * rng.range(-1.0, 1.0)))
-            .collect();
-        let pars: &[usize] = if m >= 20_000 {
-            &[usize::MAX, 20_000]
-        } else {
-            &[usize::MAX]
-        };
+        let q2: Vec<f64> = q.iter().map(|v| v * (1.0 + 0.01 * rng.range(-1.0, 1.0))).collect();
+        let pars: &[usize] = if m >= 20_000 { &[usize::MAX, 20_000] } else { &[usize::MAX] };
         for &par in pars {
             for correction in [Correction::Extragradient, Correction::Contraction] {
                 let mut ws = Workspace::new();
                 ws.correction = correction;
                 ws.parallel_min_rows = par;
-                let o = Options {
-                    tolerance: 1e-8,
-                    ..Options::default()
-                };
+                let o = Options { tolerance: 1e-8, ..Options::default() };
                 let mut z = vec![0.0; m];
                 let mut line = |label: &str, q: &[f64], rule: &mut dyn BoundRule, z: &mut [f64]| {
                     let t = Instant::now();
@@ -815,11 +671,7 @@ fn timing_contact_networks() {
                     let st = ws.stats();
                     println!(
                         "  {} {correction:?} {label}: {:?} outer {} inner {} products {} res {:.1e}: {:.3} s, {:.0} us/product",
-                        if par == usize::MAX {
-                            "serial"
-                        } else {
-                            "rayon "
-                        },
+                        if par == usize::MAX { "serial" } else { "rayon " },
                         st.status,
                         rep.outer_iterations,
                         rep.inner_iterations,
@@ -834,12 +686,7 @@ fn timing_contact_networks() {
                 assert!(line("frictionless warm", &q2, &mut frictionless(m), &mut z).converged);
                 if correction == Correction::Extragradient {
                     let mut z = vec![0.0; m];
-                    line(
-                        "Coulomb 0.3 cold",
-                        &q,
-                        &mut Coulomb { mu: 0.3, c: 0.0 },
-                        &mut z,
-                    );
+                    line("Coulomb 0.3 cold", &q, &mut Coulomb { mu: 0.3, c: 0.0 }, &mut z);
                 }
             }
         }
@@ -860,20 +707,10 @@ fn timing_products() {
             for (k, par) in [usize::MAX, 0].into_iter().enumerate() {
                 let mut ws = Workspace::new();
                 ws.parallel_min_rows = par;
-                let o = Options {
-                    tolerance: 1e-14,
-                    max_iterations: 300,
-                    ..Options::default()
-                };
+                let o = Options { tolerance: 1e-14, max_iterations: 300, ..Options::default() };
                 let mut z = vec![0.0; m];
                 let t = Instant::now();
-                solve_with(
-                    &mut ws,
-                    &Problem { w: &w, q: &q },
-                    &mut frictionless(m),
-                    &mut z,
-                    &o,
-                );
+                solve_with(&mut ws, &Problem { w: &w, q: &q }, &mut frictionless(m), &mut z, &o);
                 best[k] = best[k].min(t.elapsed().as_secs_f64() / ws.stats().products as f64);
             }
         }

@@ -31,13 +31,7 @@ pub fn block_block(p: &Polygon, q: &Polygon, tol: &Tolerances, out: &mut Vec<Con
 /// cone test (the edges at vertex k do not dip through the edge line). A penetrating vertex
 /// (g0 < 0) must also be inside `y` near the edge ([`Polygon::behind_end_edges`]): below the
 /// edge line but beyond a convex corner's other edge is outside `y`, not a penetration.
-pub fn vertex_edge_admissible(
-    x: &Polygon,
-    k: usize,
-    y: &Polygon,
-    f: usize,
-    tol: &Tolerances,
-) -> bool {
+pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol: &Tolerances) -> bool {
     let e = y.edge(f);
     let v = x.vertices[k];
     let g0 = e.height(v);
@@ -83,33 +77,16 @@ fn vertex_vertex(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
 /// with the widest gap). Tie-break (the note's approach-direction rule needs velocities, which
 /// detection does not have): among candidates within the tie width of the largest g0, the
 /// smallest contact key, i.e. the edge of the smaller body index, then the smaller edge index.
-fn separating_line(
-    x: &Polygon,
-    k: usize,
-    y: &Polygon,
-    m: usize,
-    tol: &Tolerances,
-) -> Option<ContactGeom> {
-    let candidates = [
-        (x, k, y, m),
-        (x, k, y, y.prev(m)),
-        (y, m, x, k),
-        (y, m, x, x.prev(k)),
-    ];
+fn separating_line(x: &Polygon, k: usize, y: &Polygon, m: usize, tol: &Tolerances) -> Option<ContactGeom> {
+    let candidates = [(x, k, y, m), (x, k, y, y.prev(m)), (y, m, x, k), (y, m, x, x.prev(k))];
     let admissible: Vec<ContactGeom> = candidates
         .iter()
         .filter(|(a, ka, b, fb)| a.cone_clear(*ka, b.edge(*fb).n_out, tol))
         .map(|(a, ka, b, fb)| vertex_edge_geom(a, *ka, b, *fb))
         .filter(|c| c.g0 >= -tol.merge)
         .collect();
-    let best = admissible
-        .iter()
-        .map(|c| c.g0)
-        .fold(f64::NEG_INFINITY, f64::max);
-    admissible
-        .into_iter()
-        .filter(|c| c.g0 >= best - tol.tie)
-        .min_by_key(|c| c.key)
+    let best = admissible.iter().map(|c| c.g0).fold(f64::NEG_INFINITY, f64::max);
+    admissible.into_iter().filter(|c| c.g0 >= best - tol.tie).min_by_key(|c| c.key)
 }
 
 /// Whether `p` projects inside one of the two edges of `poly` incident to vertex m.
@@ -124,20 +101,12 @@ fn inside_incident(poly: &Polygon, m: usize, p: Vec2) -> bool {
 /// notch corner) are distinct constraints and are both kept. A vertex-vertex contact
 /// (`corners`) is dropped if any kept contact lies within the merge distance: the corner is
 /// already held there (e.g. at the coincident end of a joint).
-fn dedupe(
-    found: Vec<ContactGeom>,
-    corners: Vec<ContactGeom>,
-    tol: &Tolerances,
-    out: &mut Vec<ContactGeom>,
-) {
+fn dedupe(found: Vec<ContactGeom>, corners: Vec<ContactGeom>, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let near = |a: &ContactGeom, b: &ContactGeom| (a.point - b.point).norm() <= tol.merge;
     let mut kept: Vec<ContactGeom> = Vec::with_capacity(found.len() + corners.len());
     for c in found {
         let parallel = |k: &ContactGeom| k.normal.dot(&c.normal).abs() >= tol.cos_angle;
-        if !kept
-            .iter()
-            .any(|k| k.key == c.key || (near(k, &c) && parallel(k)))
-        {
+        if !kept.iter().any(|k| k.key == c.key || (near(k, &c) && parallel(k))) {
             kept.push(c);
         }
     }
@@ -168,23 +137,10 @@ mod tests {
         let a = 10f64.to_radians();
         let (c, s) = (a.cos(), a.sin());
         let v0 = (0.5, 1.03);
-        let tilted = polygon(&[
-            v0,
-            (v0.0 + c, v0.1 + s),
-            (v0.0 + c - s, v0.1 + s + c),
-            (v0.0 - s, v0.1 + c),
-        ]);
+        let tilted = polygon(&[v0, (v0.0 + c, v0.1 + s), (v0.0 + c - s, v0.1 + s + c), (v0.0 - s, v0.1 + c)]);
         let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &tilted, D0);
         assert_eq!(got.len(), 1, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.03,
-            (0.5, 1.015),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.03, (0.5, 1.015), TOL);
         assert!(got[0].joint.is_none() && got[0].joint_length == 0.0);
     }
 
@@ -201,25 +157,12 @@ mod tests {
         let (al, a, b) = (10f64.to_radians(), 0.03, 0.01);
         let (c, s) = (al.cos(), al.sin());
         let w = (1.0 + a, 1.0 + b);
-        let sq_b = polygon(&[
-            w,
-            (w.0 + c, w.1 + s),
-            (w.0 + c - s, w.1 + s + c),
-            (w.0 - s, w.1 + c),
-        ]);
+        let sq_b = polygon(&[w, (w.0 + c, w.1 + s), (w.0 + c - s, w.1 + s + c), (w.0 - s, w.1 + c)]);
         let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &sq_b, D0);
         assert_eq!(got.len(), 1, "{got:?}");
         let g0 = a * c + b * s;
         let p = (1.0 + 0.5 * g0 * c, 1.0 + 0.5 * g0 * s);
-        check(
-            &got[0],
-            key(1, Edge(3), 0, Vertex(2)),
-            BB,
-            (c, s),
-            g0,
-            p,
-            TOL,
-        );
+        check(&got[0], key(1, Edge(3), 0, Vertex(2)), BB, (c, s), g0, p, TOL);
     }
 
     /// Math note §5 vertex-vertex tie: A = [0,1]², B = [1.03,2.03]×[1.01,2.01] (corner to
@@ -229,38 +172,15 @@ mod tests {
     /// A = body 0, n = -x, point (1.015, 1.01). Exactly one contact.
     #[test]
     fn vertex_vertex_tie_takes_smaller_body_edge() {
-        let got = contacts(
-            1,
-            0,
-            &rect(1.03, 1.01, 2.03, 2.01),
-            &rect(0.0, 0.0, 1.0, 1.0),
-            D0,
-        );
+        let got = contacts(1, 0, &rect(1.03, 1.01, 2.03, 2.01), &rect(0.0, 0.0, 1.0, 1.0), D0);
         assert_eq!(got.len(), 1, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(1), 1, Vertex(0)),
-            BB,
-            (-1.0, 0.0),
-            0.03,
-            (1.015, 1.01),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(1), 1, Vertex(0)), BB, (-1.0, 0.0), 0.03, (1.015, 1.01), TOL);
     }
 
     /// Corners further apart than d0 (gap (0.08, 0.08), |V - W| = 0.113): nothing.
     #[test]
     fn corners_beyond_threshold() {
-        assert!(
-            contacts(
-                0,
-                1,
-                &rect(0.0, 0.0, 1.0, 1.0),
-                &rect(1.08, 1.08, 2.0, 2.0),
-                D0
-            )
-            .is_empty()
-        );
+        assert!(contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &rect(1.08, 1.08, 2.0, 2.0), D0).is_empty());
     }
 
     /// Two vertex-edge contacts at one point with the same constraint: corners crossing by
@@ -271,23 +191,9 @@ mod tests {
     /// A = body 0), n = -y, g0 = 0.004, point (0.99999, 1.002).
     #[test]
     fn coincident_vertex_edge_pair_is_one_contact() {
-        let got = contacts(
-            0,
-            1,
-            &rect(0.0, 0.0, 1.0, 1.0),
-            &rect(0.99999, 1.004, 2.0, 2.0),
-            D0,
-        );
+        let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &rect(0.99999, 1.004, 2.0, 2.0), D0);
         assert_eq!(got.len(), 1, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.004,
-            (0.99999, 1.002),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.004, (0.99999, 1.002), TOL);
     }
 
     /// Concave body: L = [0,2]×[0,1] ∪ [0,1]×[1,2], notch corner (1,1) = vertex 3 (reflex).
@@ -304,24 +210,8 @@ mod tests {
         let tri = polygon(&[(1.08, 1.03), (1.5, 1.5), (1.03, 1.08)]);
         let got = contacts(0, 1, &l, &tri, D0);
         assert_eq!(got.len(), 2, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.03,
-            (1.08, 1.015),
-            TOL,
-        );
-        check(
-            &got[1],
-            key(0, Edge(3), 1, Vertex(2)),
-            BB,
-            (-1.0, 0.0),
-            0.03,
-            (1.015, 1.08),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.03, (1.08, 1.015), TOL);
+        check(&got[1], key(0, Edge(3), 1, Vertex(2)), BB, (-1.0, 0.0), 0.03, (1.015, 1.08), TOL);
     }
 
     mod random_convex_pairs {
@@ -349,30 +239,21 @@ mod tests {
         fn concave_pair() -> impl Strategy<Value = (Vec<Vec2>, Vec<Vec2>, Vec2)> {
             let gaps = prop::collection::vec(1.0..1.9f64, 3..6);
             let l = (1.0..2.0f64, 1.0..2.0f64, 0.3..0.8f64, 0.0..6.3f64);
-            (l, gaps, 0.4..0.8f64, 0.0..6.3f64, 0.0..6.3f64).prop_map(
-                |((a, b, t, lt), gb, rb, tb, dir)| {
-                    let q = convex(Vec2::zeros(), rb, tb, &gb);
-                    (l_shape(a, b, t, lt), q, Vec2::new(dir.cos(), dir.sin()))
-                },
-            )
+            (l, gaps, 0.4..0.8f64, 0.0..6.3f64, 0.0..6.3f64).prop_map(|((a, b, t, lt), gb, rb, tb, dir)| {
+                let q = convex(Vec2::zeros(), rb, tb, &gb);
+                (l_shape(a, b, t, lt), q, Vec2::new(dir.cos(), dir.sin()))
+            })
         }
 
         fn pair() -> impl Strategy<Value = (Vec<Vec2>, Vec<Vec2>, Vec2)> {
             let gaps = prop::collection::vec(1.0..1.9f64, 3..7);
-            (
-                gaps.clone(),
-                gaps,
-                1.0..2.0f64,
-                1.0..2.0f64,
-                0.0..6.3f64,
-                0.0..6.3f64,
-                0.0..6.3f64,
-            )
-                .prop_map(|(ga, gb, ra, rb, ta, tb, dir)| {
+            (gaps.clone(), gaps, 1.0..2.0f64, 1.0..2.0f64, 0.0..6.3f64, 0.0..6.3f64, 0.0..6.3f64).prop_map(
+                |(ga, gb, ra, rb, ta, tb, dir)| {
                     let a = convex(Vec2::zeros(), ra, ta, &ga);
                     let b = convex(Vec2::zeros(), rb, tb, &gb);
                     (a, b, Vec2::new(dir.cos(), dir.sin()))
-                })
+                },
+            )
         }
 
         fn check_invariants(c: &[ContactGeom]) {
@@ -385,10 +266,7 @@ mod tests {
                     let parallel = x.normal.dot(&y.normal).abs() >= tol.cos_angle;
                     assert!(!(same_point && parallel), "duplicate {x:?} {y:?}");
                 }
-                let in_joint = c
-                    .iter()
-                    .filter(|y| x.joint.is_some() && y.joint == x.joint)
-                    .count();
+                let in_joint = c.iter().filter(|y| x.joint.is_some() && y.joint == x.joint).count();
                 assert!(in_joint <= 2);
             }
         }

@@ -27,11 +27,7 @@ pub fn body_aabb(shape: &BodyShape) -> Aabb {
 
 /// Pairs `(i, j)`, `i < j`, sorted, of bodies whose boxes inflated by `threshold / 2` (d0 in
 /// the paper) overlap ([`Aabb::overlaps`]), except pairs of two fixed bodies.
-pub fn candidate_pairs(
-    shapes: &[BodyShape],
-    fixed: &[bool],
-    threshold: f64,
-) -> Vec<(usize, usize)> {
+pub fn candidate_pairs(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<(usize, usize)> {
     let half = 0.5 * threshold.max(0.0);
     let boxes: Vec<Aabb> = shapes.iter().map(|s| body_aabb(s).inflated(half)).collect();
     if boxes.is_empty() {
@@ -44,10 +40,7 @@ pub fn candidate_pairs(
         sweep(&strips, s, &entries[w[0]..w[1]], &mut pairs);
     }
     pairs.sort_unstable();
-    pairs
-        .into_iter()
-        .map(|p| ((p >> 32) as usize, (p & 0xffff_ffff) as usize))
-        .collect()
+    pairs.into_iter().map(|p| ((p >> 32) as usize, (p & 0xffff_ffff) as usize)).collect()
 }
 
 /// One box in one strip: its interval on the sweep axis and on the strip axis.
@@ -75,35 +68,15 @@ struct Strips {
 
 impl Strips {
     fn new(boxes: &[Aabb]) -> Strips {
-        let axis = if spread(boxes, 1) > spread(boxes, 0) {
-            1
-        } else {
-            0
-        };
-        let origin = boxes
-            .iter()
-            .map(|b| b.min[axis])
-            .fold(f64::INFINITY, f64::min);
-        let end = boxes
-            .iter()
-            .map(|b| b.max[axis])
-            .fold(f64::NEG_INFINITY, f64::max);
+        let axis = if spread(boxes, 1) > spread(boxes, 0) { 1 } else { 0 };
+        let origin = boxes.iter().map(|b| b.min[axis]).fold(f64::INFINITY, f64::min);
+        let end = boxes.iter().map(|b| b.max[axis]).fold(f64::NEG_INFINITY, f64::max);
         let length = end - origin;
         let width = 2.0 * median_extent(boxes, axis);
         let cap = 2.0 * (boxes.len() as f64).sqrt();
-        let count = if length > 0.0 && width > 0.0 {
-            (length / width).ceil().clamp(1.0, cap)
-        } else {
-            1.0
-        };
+        let count = if length > 0.0 && width > 0.0 { (length / width).ceil().clamp(1.0, cap) } else { 1.0 };
         let density = if length > 0.0 { count / length } else { 0.0 };
-        Strips {
-            axis,
-            origin,
-            density,
-            count: count as usize,
-            offsets: Vec::new(),
-        }
+        Strips { axis, origin, density, count: count as usize, offsets: Vec::new() }
     }
 
     /// Index of the strip holding coordinate `c` of the strip axis; monotone in `c`.
@@ -125,14 +98,7 @@ impl Strips {
             count[s + 1] += count[s];
         }
         let mut next = count.clone();
-        let blank = Entry {
-            lo: 0.0,
-            hi: 0.0,
-            strip_lo: 0.0,
-            strip_hi: 0.0,
-            body: 0,
-            fixed: false,
-        };
+        let blank = Entry { lo: 0.0, hi: 0.0, strip_lo: 0.0, strip_hi: 0.0, body: 0, fixed: false };
         let mut entries = vec![blank; count[self.count]];
         for (k, b) in boxes.iter().enumerate() {
             let e = Entry {
@@ -149,8 +115,7 @@ impl Strips {
             }
         }
         for w in count.windows(2) {
-            entries[w[0]..w[1]]
-                .sort_unstable_by(|x, y| x.lo.total_cmp(&y.lo).then(x.body.cmp(&y.body)));
+            entries[w[0]..w[1]].sort_unstable_by(|x, y| x.lo.total_cmp(&y.lo).then(x.body.cmp(&y.body)));
         }
         self.offsets = count;
         entries
@@ -198,10 +163,7 @@ mod tests {
 
     /// Reference: every pair, same inflated boxes, same fixed rule.
     fn brute_force(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<(usize, usize)> {
-        let boxes: Vec<Aabb> = shapes
-            .iter()
-            .map(|s| body_aabb(s).inflated(0.5 * threshold))
-            .collect();
+        let boxes: Vec<Aabb> = shapes.iter().map(|s| body_aabb(s).inflated(0.5 * threshold)).collect();
         let mut pairs = Vec::new();
         for i in 0..shapes.len() {
             for j in i + 1..shapes.len() {
@@ -218,42 +180,25 @@ mod tests {
     fn body(column: bool) -> impl Strategy<Value = (BodyShape, bool)> {
         let w = if column { 1.0 } else { 20.0 };
         let h = if column { 60.0 } else { 20.0 };
-        (
-            0.0..w,
-            0.0..h,
-            0.05..2.0f64,
-            0u8..3,
-            3usize..8,
-            any::<bool>(),
-        )
-            .prop_map(move |(x, y, r, kind, n, fixed)| {
+        (0.0..w, 0.0..h, 0.05..2.0f64, 0u8..3, 3usize..8, any::<bool>()).prop_map(
+            move |(x, y, r, kind, n, fixed)| {
                 let c = Vec2::new(x, y);
                 let shape = match kind {
-                    0 => BodyShape::Disk {
-                        center: c,
-                        radius: r / 2.0,
-                    },
-                    1 => BodyShape::Ring {
-                        center: c,
-                        outer: r / 2.0,
-                        inner: r / 4.0,
-                    },
+                    0 => BodyShape::Disk { center: c, radius: r / 2.0 },
+                    1 => BodyShape::Ring { center: c, outer: r / 2.0, inner: r / 4.0 },
                     _ => {
                         let vertices: Vec<Vec2> = (0..n)
                             .map(|k| {
-                                let a = std::f64::consts::TAU * (k as f64 + 0.3 * (k % 2) as f64)
-                                    / n as f64;
+                                let a = std::f64::consts::TAU * (k as f64 + 0.3 * (k % 2) as f64) / n as f64;
                                 c + r * Vec2::new(a.cos(), a.sin())
                             })
                             .collect();
-                        BodyShape::Polygon {
-                            vertices,
-                            convex: vec![true; n],
-                        }
+                        BodyShape::Polygon { vertices, convex: vec![true; n] }
                     }
                 };
                 (shape, fixed)
-            })
+            },
+        )
     }
 
     proptest! {
@@ -303,34 +248,18 @@ mod tests {
     /// Two touching fixed bodies are no candidate pair; a free body touching both gives two.
     #[test]
     fn fixed_pairs_are_skipped() {
-        let d = |x: f64| BodyShape::Disk {
-            center: Vec2::new(x, 0.0),
-            radius: 1.0,
-        };
+        let d = |x: f64| BodyShape::Disk { center: Vec2::new(x, 0.0), radius: 1.0 };
         let shapes = [d(0.0), d(2.0), d(4.0)];
-        assert_eq!(
-            candidate_pairs(&shapes, &[true, false, true], 0.1),
-            vec![(0, 1), (1, 2)]
-        );
-        assert_eq!(
-            candidate_pairs(&shapes, &[true, true, false], 0.1),
-            vec![(1, 2)]
-        );
+        assert_eq!(candidate_pairs(&shapes, &[true, false, true], 0.1), vec![(0, 1), (1, 2)]);
+        assert_eq!(candidate_pairs(&shapes, &[true, true, false], 0.1), vec![(1, 2)]);
     }
 
     /// A disk in a ring's hole overlaps the ring's (outer circle) box.
     #[test]
     fn body_in_ring_hole_is_a_candidate() {
         let shapes = [
-            BodyShape::Ring {
-                center: Vec2::zeros(),
-                outer: 10.0,
-                inner: 8.0,
-            },
-            BodyShape::Disk {
-                center: Vec2::new(1.0, 0.0),
-                radius: 1.0,
-            },
+            BodyShape::Ring { center: Vec2::zeros(), outer: 10.0, inner: 8.0 },
+            BodyShape::Disk { center: Vec2::new(1.0, 0.0), radius: 1.0 },
         ];
         assert_eq!(candidate_pairs(&shapes, &[false, false], 0.1), vec![(0, 1)]);
     }

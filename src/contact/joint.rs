@@ -26,14 +26,7 @@ pub fn edge_edge(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
 /// If one end fails the band or cone test, there is no joint: the other end, if valid, is
 /// found as a single vertex-edge contact. An end whose vertex is not convex (a straight 180°
 /// vertex in the middle of a longer face) makes no contact, and the joint keeps one contact.
-fn joint(
-    x: &Polygon,
-    e: usize,
-    y: &Polygon,
-    f: usize,
-    tol: &Tolerances,
-    out: &mut Vec<ContactGeom>,
-) {
+fn joint(x: &Polygon, e: usize, y: &Polygon, f: usize, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let (ex, ey) = (x.edge(e), y.edge(f));
     let anti_parallel = ex.t.dot(&ey.t) <= -tol.cos_angle;
     if !anti_parallel {
@@ -54,12 +47,8 @@ fn joint(
     if ends.iter().any(|c| matches!(c, End::Invalid)) {
         return;
     }
-    let key = JointKey {
-        body_lo: x.body as u32,
-        edge_lo: e as u32,
-        body_hi: y.body as u32,
-        edge_hi: f as u32,
-    };
+    let key =
+        JointKey { body_lo: x.body as u32, edge_lo: e as u32, body_hi: y.body as u32, edge_hi: f as u32 };
     for end in ends {
         if let End::Contact(mut c) = end {
             c.joint = Some(key);
@@ -105,19 +94,14 @@ fn end_contact(
     } else {
         vec![x_on_f]
     };
-    let convex: Vec<_> = candidates
-        .into_iter()
-        .filter(|(p, k, ..)| p.convex[*k])
-        .collect();
+    let convex: Vec<_> = candidates.into_iter().filter(|(p, k, ..)| p.convex[*k]).collect();
     if convex.is_empty() {
         return End::Absent;
     }
     convex
         .into_iter()
         .find(|(p, k, q, g)| vertex_edge_admissible(p, *k, q, *g, tol))
-        .map_or(End::Invalid, |(p, k, q, g)| {
-            End::Contact(vertex_edge_geom(p, k, q, g))
-        })
+        .map_or(End::Invalid, |(p, k, q, g)| End::Contact(vertex_edge_geom(p, k, q, g)))
 }
 
 #[cfg(test)]
@@ -131,12 +115,7 @@ mod tests {
     const BB: ContactKind = ContactKind::BB;
 
     fn jk(body_lo: u32, edge_lo: u32, body_hi: u32, edge_hi: u32) -> Option<JointKey> {
-        Some(JointKey {
-            body_lo,
-            edge_lo,
-            body_hi,
-            edge_hi,
-        })
+        Some(JointKey { body_lo, edge_lo, body_hi, edge_hi })
     }
 
     /// Math note §7.2, level 1/2 of the staircase: upper block [5,25]×[10,20] (body 1) on
@@ -148,31 +127,11 @@ mod tests {
     fn staircase_partial_overlap() {
         let (lower, upper) = (rect(0.0, 0.0, 20.0, 10.0), rect(5.0, 10.0, 25.0, 20.0));
         for (i, j) in [(0, 1), (1, 0)] {
-            let (si, sj) = if i == 0 {
-                (&lower, &upper)
-            } else {
-                (&upper, &lower)
-            };
+            let (si, sj) = if i == 0 { (&lower, &upper) } else { (&upper, &lower) };
             let c = contacts(i, j, si, sj, D0);
             assert_eq!(c.len(), 2, "{c:?}");
-            check(
-                &c[0],
-                key(0, Edge(2), 1, Vertex(0)),
-                BB,
-                (0.0, -1.0),
-                0.0,
-                (5.0, 10.0),
-                TOL,
-            );
-            check(
-                &c[1],
-                key(1, Edge(0), 0, Vertex(2)),
-                BB,
-                (0.0, 1.0),
-                0.0,
-                (20.0, 10.0),
-                TOL,
-            );
+            check(&c[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.0, (5.0, 10.0), TOL);
+            check(&c[1], key(1, Edge(0), 0, Vertex(2)), BB, (0.0, 1.0), 0.0, (20.0, 10.0), TOL);
             for k in &c {
                 assert_eq!(k.joint, jk(0, 2, 1, 0));
                 assert!((k.joint_length - 15.0).abs() < TOL);
@@ -184,36 +143,11 @@ mod tests {
     /// edge (edge 0) first, body 1's top edge (edge 2) second; contacts mirror the above.
     #[test]
     fn staircase_with_swapped_indices() {
-        let c = contacts(
-            0,
-            1,
-            &rect(5.0, 10.0, 25.0, 20.0),
-            &rect(0.0, 0.0, 20.0, 10.0),
-            D0,
-        );
+        let c = contacts(0, 1, &rect(5.0, 10.0, 25.0, 20.0), &rect(0.0, 0.0, 20.0, 10.0), D0);
         assert_eq!(c.len(), 2, "{c:?}");
-        check(
-            &c[0],
-            key(0, Edge(0), 1, Vertex(2)),
-            BB,
-            (0.0, 1.0),
-            0.0,
-            (20.0, 10.0),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(1, Edge(2), 0, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.0,
-            (5.0, 10.0),
-            TOL,
-        );
-        assert!(
-            c.iter()
-                .all(|k| k.joint == jk(0, 0, 1, 2) && (k.joint_length - 15.0).abs() < TOL)
-        );
+        check(&c[0], key(0, Edge(0), 1, Vertex(2)), BB, (0.0, 1.0), 0.0, (20.0, 10.0), TOL);
+        check(&c[1], key(1, Edge(2), 0, Vertex(0)), BB, (0.0, -1.0), 0.0, (5.0, 10.0), TOL);
+        assert!(c.iter().all(|k| k.joint == jk(0, 0, 1, 2) && (k.joint_length - 15.0).abs() < TOL));
     }
 
     /// Full overlap with a gap (math note §7.6 geometry): unit block [0,1]×[0.01,1.01] (body 1)
@@ -222,36 +156,11 @@ mod tests {
     /// joint length 1.
     #[test]
     fn full_overlap_same_normal() {
-        let c = contacts(
-            0,
-            1,
-            &rect(-5.0, -1.0, 5.0, 0.0),
-            &rect(0.0, 0.01, 1.0, 1.01),
-            D0,
-        );
+        let c = contacts(0, 1, &rect(-5.0, -1.0, 5.0, 0.0), &rect(0.0, 0.01, 1.0, 1.01), D0);
         assert_eq!(c.len(), 2, "{c:?}");
-        check(
-            &c[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.01,
-            (0.0, 0.005),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(0, Edge(2), 1, Vertex(1)),
-            BB,
-            (0.0, -1.0),
-            0.01,
-            (1.0, 0.005),
-            TOL,
-        );
-        assert!(
-            c.iter()
-                .all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 1.0).abs() < TOL)
-        );
+        check(&c[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.01, (0.0, 0.005), TOL);
+        check(&c[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), 0.01, (1.0, 0.005), TOL);
+        assert!(c.iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 1.0).abs() < TOL));
     }
 
     /// Coincident end vertices: equal blocks [0,20]×[0,10] (body 0) and [0,20]×[10,20] (body 1)
@@ -262,36 +171,11 @@ mod tests {
     #[test]
     fn coincident_ends_give_one_contact_each() {
         for dx in [0.0, 1e-9, -1e-9] {
-            let c = contacts(
-                0,
-                1,
-                &rect(0.0, 0.0, 20.0, 10.0),
-                &rect(dx, 10.0, 20.0 + dx, 20.0),
-                D0,
-            );
+            let c = contacts(0, 1, &rect(0.0, 0.0, 20.0, 10.0), &rect(dx, 10.0, 20.0 + dx, 20.0), D0);
             assert_eq!(c.len(), 2, "{c:?}");
-            check(
-                &c[0],
-                key(0, Edge(2), 1, Vertex(0)),
-                BB,
-                (0.0, -1.0),
-                0.0,
-                (dx, 10.0),
-                TOL,
-            );
-            check(
-                &c[1],
-                key(0, Edge(2), 1, Vertex(1)),
-                BB,
-                (0.0, -1.0),
-                0.0,
-                (20.0 + dx, 10.0),
-                TOL,
-            );
-            assert!(
-                c.iter()
-                    .all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 20.0).abs() < 1e-8)
-            );
+            check(&c[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.0, (dx, 10.0), TOL);
+            check(&c[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), 0.0, (20.0 + dx, 10.0), TOL);
+            assert!(c.iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 20.0).abs() < 1e-8));
         }
     }
 
@@ -300,36 +184,11 @@ mod tests {
     /// 0's vertex 3 lies inside body 1's bottom edge: A = body 1, n = +y. Length 20.
     #[test]
     fn one_coincident_end() {
-        let c = contacts(
-            0,
-            1,
-            &rect(0.0, 0.0, 20.0, 10.0),
-            &rect(-5.0, 10.0, 20.0, 20.0),
-            D0,
-        );
+        let c = contacts(0, 1, &rect(0.0, 0.0, 20.0, 10.0), &rect(-5.0, 10.0, 20.0, 20.0), D0);
         assert_eq!(c.len(), 2, "{c:?}");
-        check(
-            &c[0],
-            key(0, Edge(2), 1, Vertex(1)),
-            BB,
-            (0.0, -1.0),
-            0.0,
-            (20.0, 10.0),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(1, Edge(0), 0, Vertex(3)),
-            BB,
-            (0.0, 1.0),
-            0.0,
-            (0.0, 10.0),
-            TOL,
-        );
-        assert!(
-            c.iter()
-                .all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 20.0).abs() < TOL)
-        );
+        check(&c[0], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), 0.0, (20.0, 10.0), TOL);
+        check(&c[1], key(1, Edge(0), 0, Vertex(3)), BB, (0.0, 1.0), 0.0, (0.0, 10.0), TOL);
+        assert!(c.iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 20.0).abs() < TOL));
     }
 
     /// A slightly tilted face: body 1 is [0,1]² rotated by α about its corner (0, 0.01), above
@@ -342,55 +201,19 @@ mod tests {
     fn tilted_face() {
         let tilted = |deg: f64| {
             let (s, c) = deg.to_radians().sin_cos();
-            (
-                polygon(&[
-                    (0.0, 0.01),
-                    (c, 0.01 + s),
-                    (c - s, 0.01 + s + c),
-                    (-s, 0.01 + c),
-                ]),
-                c,
-                s,
-            )
+            (polygon(&[(0.0, 0.01), (c, 0.01 + s), (c - s, 0.01 + s + c), (-s, 0.01 + c)]), c, s)
         };
         let floor = rect(-5.0, -1.0, 5.0, 0.0);
         let (b, c, s) = tilted(1.0);
         let got = contacts(0, 1, &floor, &b, D0);
         assert_eq!(got.len(), 2, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.01,
-            (0.0, 0.005),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.01, (0.0, 0.005), TOL);
         let g1 = 0.01 + s;
-        check(
-            &got[1],
-            key(0, Edge(2), 1, Vertex(1)),
-            BB,
-            (0.0, -1.0),
-            g1,
-            (c, 0.5 * g1),
-            TOL,
-        );
-        assert!(
-            got.iter()
-                .all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - c).abs() < TOL)
-        );
+        check(&got[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), g1, (c, 0.5 * g1), TOL);
+        assert!(got.iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - c).abs() < TOL));
         let got = contacts(0, 1, &floor, &tilted(3.0).0, D0);
         assert_eq!(got.len(), 1, "{got:?}");
-        check(
-            &got[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.01,
-            (0.0, 0.005),
-            TOL,
-        );
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.01, (0.0, 0.005), TOL);
         assert!(got[0].joint.is_none() && got[0].joint_length == 0.0);
     }
 
@@ -405,51 +228,11 @@ mod tests {
         let l = polygon(&[(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]);
         let c = contacts(0, 1, &l, &rect(1.0, 1.0, 1.5, 1.5), D0);
         assert_eq!(c.len(), 4, "{c:?}");
-        check(
-            &c[0],
-            key(0, Edge(2), 1, Vertex(0)),
-            BB,
-            (0.0, -1.0),
-            0.0,
-            (1.0, 1.0),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(0, Edge(2), 1, Vertex(1)),
-            BB,
-            (0.0, -1.0),
-            0.0,
-            (1.5, 1.0),
-            TOL,
-        );
-        check(
-            &c[2],
-            key(0, Edge(3), 1, Vertex(0)),
-            BB,
-            (-1.0, 0.0),
-            0.0,
-            (1.0, 1.0),
-            TOL,
-        );
-        check(
-            &c[3],
-            key(0, Edge(3), 1, Vertex(3)),
-            BB,
-            (-1.0, 0.0),
-            0.0,
-            (1.0, 1.5),
-            TOL,
-        );
-        assert!(
-            c[..2]
-                .iter()
-                .all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 0.5).abs() < TOL)
-        );
-        assert!(
-            c[2..]
-                .iter()
-                .all(|k| k.joint == jk(0, 3, 1, 3) && (k.joint_length - 0.5).abs() < TOL)
-        );
+        check(&c[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), 0.0, (1.0, 1.0), TOL);
+        check(&c[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), 0.0, (1.5, 1.0), TOL);
+        check(&c[2], key(0, Edge(3), 1, Vertex(0)), BB, (-1.0, 0.0), 0.0, (1.0, 1.0), TOL);
+        check(&c[3], key(0, Edge(3), 1, Vertex(3)), BB, (-1.0, 0.0), 0.0, (1.0, 1.5), TOL);
+        assert!(c[..2].iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 0.5).abs() < TOL));
+        assert!(c[2..].iter().all(|k| k.joint == jk(0, 3, 1, 3) && (k.joint_length - 0.5).abs() < TOL));
     }
 }

@@ -66,7 +66,9 @@ impl ContactBounds<'_> {
             return 0.0;
         }
         let cohesion = match (law.partner, self.share_cohesion) {
-            (Some(l), true) => cohesion_share(law.cohesion, law.friction, self.forces(k, z), self.forces(l, z)),
+            (Some(l), true) => {
+                cohesion_share(law.cohesion, law.friction, self.forces(k, z), self.forces(l, z))
+            }
             _ => law.cohesion,
         };
         cohesion + law.friction * pn.max(0.0)

@@ -5,9 +5,9 @@
 mod block;
 pub mod broad;
 mod joint;
+pub mod law;
 pub mod narrow;
 mod particle;
-pub mod law;
 pub mod set;
 #[cfg(test)]
 mod testkit;
@@ -17,12 +17,22 @@ use crate::geometry::Vec2;
 /// Current geometry of one body, as detection sees it.
 #[derive(Debug, Clone)]
 pub enum BodyShape {
-    Disk { center: Vec2, radius: f64 },
+    Disk {
+        center: Vec2,
+        radius: f64,
+    },
     /// A ring particle; contacts from outside use `outer`, contacts in its hole use `inner`.
-    Ring { center: Vec2, outer: f64, inner: f64 },
+    Ring {
+        center: Vec2,
+        outer: f64,
+        inner: f64,
+    },
     /// A simple polygon, vertices counter-clockwise in the current configuration.
     /// `convex[i]` tells whether vertex i has an interior angle below 180°.
-    Polygon { vertices: Vec<Vec2>, convex: Vec<bool> },
+    Polygon {
+        vertices: Vec<Vec2>,
+        convex: Vec<bool>,
+    },
 }
 
 /// `PP` particle-particle, `PB` particle-block, `BB` block-block (contacts.csv `kind`).

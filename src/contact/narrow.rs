@@ -38,9 +38,7 @@ pub fn pair_contacts(
 ) {
     let tol = Tolerances::new(threshold);
     match (Body::of(i, shape_i), Body::of(j, shape_j)) {
-        (Body::Particle(p), Body::Particle(q)) => {
-            super::particle::particle_particle(&p, &q, &tol, out)
-        }
+        (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, &tol, out),
         (Body::Particle(p), Body::Polygon(b)) | (Body::Polygon(b), Body::Particle(p)) => {
             super::particle::particle_block(&p, &b, &tol, out)
         }
@@ -57,26 +55,15 @@ enum Body<'a> {
 impl<'a> Body<'a> {
     fn of(body: usize, shape: &'a BodyShape) -> Body<'a> {
         match *shape {
-            BodyShape::Disk { center, radius } => Body::Particle(Particle {
-                body,
-                center,
-                outer: radius,
-                inner: 0.0,
-            }),
-            BodyShape::Ring {
-                center,
-                outer,
-                inner,
-            } => Body::Particle(Particle {
-                body,
-                center,
-                outer,
-                inner,
-            }),
-            BodyShape::Polygon {
-                ref vertices,
-                ref convex,
-            } => Body::Polygon(Polygon::new(body, vertices, convex)),
+            BodyShape::Disk { center, radius } => {
+                Body::Particle(Particle { body, center, outer: radius, inner: 0.0 })
+            }
+            BodyShape::Ring { center, outer, inner } => {
+                Body::Particle(Particle { body, center, outer, inner })
+            }
+            BodyShape::Polygon { ref vertices, ref convex } => {
+                Body::Polygon(Polygon::new(body, vertices, convex))
+            }
         }
     }
 }
@@ -174,20 +161,10 @@ impl<'a> Polygon<'a> {
                 let (start, d) = (vertices[k], vertices[(k + 1) % n] - vertices[k]);
                 let len = d.norm();
                 let t = d / len;
-                Edge {
-                    start,
-                    t,
-                    len,
-                    n_out: cw(t),
-                }
+                Edge { start, t, len, n_out: cw(t) }
             })
             .collect();
-        Polygon {
-            body,
-            vertices,
-            convex,
-            edges,
-        }
+        Polygon { body, vertices, convex, edges }
     }
 
     pub fn vertex_count(&self) -> usize {
@@ -299,20 +276,8 @@ mod tests {
             rect(60.0, -60.0, 70.0, 60.0),
         ];
         // (square, wall edge, square vertices, n, the two points, joint key)
-        type Case = (
-            [f64; 4],
-            u32,
-            [u32; 2],
-            (f64, f64),
-            [(f64, f64); 2],
-            JointKey,
-        );
-        let jk = |body_lo, edge_lo, edge_hi| JointKey {
-            body_lo,
-            edge_lo,
-            body_hi: 4,
-            edge_hi,
-        };
+        type Case = ([f64; 4], u32, [u32; 2], (f64, f64), [(f64, f64); 2], JointKey);
+        let jk = |body_lo, edge_lo, edge_hi| JointKey { body_lo, edge_lo, body_hi: 4, edge_hi };
         let cases: [Case; 4] = [
             (
                 [-10., -59.99, 10., -39.99],
@@ -322,14 +287,7 @@ mod tests {
                 [(-10., -59.995), (10., -59.995)],
                 jk(0, 2, 0),
             ),
-            (
-                [-10., 39.99, 10., 59.99],
-                0,
-                [2, 3],
-                (0., 1.),
-                [(10., 59.995), (-10., 59.995)],
-                jk(1, 0, 2),
-            ),
+            ([-10., 39.99, 10., 59.99], 0, [2, 3], (0., 1.), [(10., 59.995), (-10., 59.995)], jk(1, 0, 2)),
             (
                 [-59.99, -10., -39.99, 10.],
                 1,
@@ -338,14 +296,7 @@ mod tests {
                 [(-59.995, -10.), (-59.995, 10.)],
                 jk(2, 1, 3),
             ),
-            (
-                [39.99, -10., 59.99, 10.],
-                3,
-                [1, 2],
-                (1., 0.),
-                [(59.995, -10.), (59.995, 10.)],
-                jk(3, 3, 1),
-            ),
+            ([39.99, -10., 59.99, 10.], 3, [1, 2], (1., 0.), [(59.995, -10.), (59.995, 10.)], jk(3, 3, 1)),
         ];
         for (wall, (sq, edge, verts, n, points, joint)) in cases.into_iter().enumerate() {
             let mut shapes = walls.to_vec();
@@ -375,33 +326,9 @@ mod tests {
         ];
         let c = detect(&shapes, &[true, false, false, false], 0.1);
         assert_eq!(c.len(), 3, "{c:?}");
-        check(
-            &c[0],
-            key(1, Outer, 0, Edge(2)),
-            ContactKind::PB,
-            (0.0, 1.0),
-            0.0,
-            (0.0, 0.0),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(1, Outer, 2, Outer),
-            ContactKind::PP,
-            (0.0, -1.0),
-            0.0,
-            (0.0, 20.0),
-            TOL,
-        );
-        check(
-            &c[2],
-            key(2, Outer, 3, Outer),
-            ContactKind::PP,
-            (0.0, -1.0),
-            0.0,
-            (0.0, 40.0),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Edge(2)), ContactKind::PB, (0.0, 1.0), 0.0, (0.0, 0.0), TOL);
+        check(&c[1], key(1, Outer, 2, Outer), ContactKind::PP, (0.0, -1.0), 0.0, (0.0, 20.0), TOL);
+        check(&c[2], key(2, Outer, 3, Outer), ContactKind::PP, (0.0, -1.0), 0.0, (0.0, 40.0), TOL);
     }
 
     /// Pairs of fixed bodies never produce contacts (math note §5), however close: touching
@@ -422,11 +349,7 @@ mod tests {
     /// its own (the disk resting on the block: one contact).
     #[test]
     fn far_ring_gives_nothing() {
-        let shapes = [
-            rect(0.0, 0.0, 1.0, 1.0),
-            disk(0.5, 1.5, 0.5),
-            ring(100.0, 100.0, 3.0, 1.0),
-        ];
+        let shapes = [rect(0.0, 0.0, 1.0, 1.0), disk(0.5, 1.5, 0.5), ring(100.0, 100.0, 3.0, 1.0)];
         let c = detect(&shapes, &[true, false, false], 0.1);
         assert_eq!(c.len(), 1);
         assert!(c.iter().all(|k| k.a != 2 && k.b != 2));

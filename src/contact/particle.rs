@@ -30,11 +30,7 @@ pub fn particle_particle(p: &Particle, q: &Particle, tol: &Tolerances, out: &mut
 fn unit_from(from: Vec2, to: Vec2, scale: f64) -> Vec2 {
     let d = from - to;
     let len = d.norm();
-    if len > f64::EPSILON * scale {
-        d / len
-    } else {
-        Vec2::x()
-    }
+    if len > f64::EPSILON * scale { d / len } else { Vec2::x() }
 }
 
 /// P-P outside (math note §5, paper Figure 2A): A = `p` (smaller index), e = (P_i - P_j)/|..|,
@@ -46,12 +42,7 @@ fn outside(p: &Particle, q: &Particle, tol: &Tolerances, out: &mut Vec<ContactGe
     }
     let e = unit_from(p.center, q.center, p.outer + q.outer);
     let (ci, cj) = (p.center - p.outer * e, q.center + q.outer * e);
-    let key = ContactKey {
-        a: p.body as u32,
-        fa: Feature::Outer,
-        b: q.body as u32,
-        fb: Feature::Outer,
-    };
+    let key = ContactKey { a: p.body as u32, fa: Feature::Outer, b: q.body as u32, fb: Feature::Outer };
     out.push(plain_contact(key, ContactKind::PP, 0.5 * (ci + cj), e, g0));
 }
 
@@ -66,12 +57,7 @@ fn in_hole(p: &Particle, q: &Particle, tol: &Tolerances, out: &mut Vec<ContactGe
     }
     let e = unit_from(p.center, q.center, q.inner);
     let (ci, cj) = (p.center + p.outer * e, q.center + q.inner * e);
-    let key = ContactKey {
-        a: p.body as u32,
-        fa: Feature::Outer,
-        b: q.body as u32,
-        fb: Feature::Inner,
-    };
+    let key = ContactKey { a: p.body as u32, fa: Feature::Outer, b: q.body as u32, fb: Feature::Inner };
     out.push(plain_contact(key, ContactKind::PP, 0.5 * (ci + cj), -e, g0));
 }
 
@@ -109,13 +95,7 @@ fn hole_holds(p: &Particle, b: &Polygon) -> bool {
 /// Requires the foot of the centre inside the edge, 0 <= (P - V_a)·t_e <= L_e, and the centre
 /// on the outer side. A = particle, n = n_out, g0 = (P - V_a)·n_out - R,
 /// points: foot F and C_P = P - R n_out.
-fn particle_edge(
-    p: &Particle,
-    b: &Polygon,
-    f: usize,
-    tol: &Tolerances,
-    out: &mut Vec<ContactGeom>,
-) {
+fn particle_edge(p: &Particle, b: &Polygon, f: usize, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let e = b.edge(f);
     let s = e.along(p.center);
     let h = e.height(p.center);
@@ -125,32 +105,16 @@ fn particle_edge(
     }
     let foot = e.start + s * e.t;
     let cp = p.center - p.outer * e.n_out;
-    let key = ContactKey {
-        a: p.body as u32,
-        fa: Feature::Outer,
-        b: b.body as u32,
-        fb: Feature::Edge(f as u32),
-    };
-    out.push(plain_contact(
-        key,
-        ContactKind::PB,
-        0.5 * (foot + cp),
-        e.n_out,
-        g0,
-    ));
+    let key =
+        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Edge(f as u32) };
+    out.push(plain_contact(key, ContactKind::PB, 0.5 * (foot + cp), e.n_out, g0));
 }
 
 /// P-B case III (math note §5, paper Figure 3C): convex vertex k outside the particle, with
 /// the particle centre in the vertex's Voronoi region (its projections on both adjacent edge
 /// lines fall beyond the vertex; strictly, so that the boundary belongs to case I).
 /// A = particle, e = (V - P)/|V - P|, n = -e, g0 = |V - P| - R, points C_P = P + R e and V.
-fn particle_vertex(
-    p: &Particle,
-    b: &Polygon,
-    k: usize,
-    tol: &Tolerances,
-    out: &mut Vec<ContactGeom>,
-) {
+fn particle_vertex(p: &Particle, b: &Polygon, k: usize, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let v = b.vertices[k];
     let r = p.center - v;
     let (t_in, t_out) = (b.edge(b.prev(k)).t, b.edge(k).t);
@@ -161,25 +125,15 @@ fn particle_vertex(
     }
     let n = r / dist;
     let cp = p.center - p.outer * n;
-    let key = ContactKey {
-        a: p.body as u32,
-        fa: Feature::Outer,
-        b: b.body as u32,
-        fb: Feature::Vertex(k as u32),
-    };
+    let key =
+        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Vertex(k as u32) };
     out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + v), n, g0));
 }
 
 /// P-B case IV (math note §5, paper Figure 3D): convex vertex k in the hole of ring `p`.
 /// A = ring, e = (V - P)/|V - P|, n = e, g0 = RI - |V - P|, points C_P = P + RI e and V.
 /// A vertex at the ring centre uses e = +x.
-fn vertex_in_hole(
-    p: &Particle,
-    b: &Polygon,
-    k: usize,
-    tol: &Tolerances,
-    out: &mut Vec<ContactGeom>,
-) {
+fn vertex_in_hole(p: &Particle, b: &Polygon, k: usize, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let v = b.vertices[k];
     let g0 = p.inner - (v - p.center).norm();
     if !tol.detects(g0) {
@@ -187,12 +141,8 @@ fn vertex_in_hole(
     }
     let e = unit_from(v, p.center, p.inner);
     let cp = p.center + p.inner * e;
-    let key = ContactKey {
-        a: p.body as u32,
-        fa: Feature::Inner,
-        b: b.body as u32,
-        fb: Feature::Vertex(k as u32),
-    };
+    let key =
+        ContactKey { a: p.body as u32, fa: Feature::Inner, b: b.body as u32, fb: Feature::Vertex(k as u32) };
     out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + v), e, g0));
 }
 
@@ -214,15 +164,7 @@ mod tests {
     fn two_disks_outside() {
         let c = contacts(1, 0, &disk(2.01, 0.0, 1.0), &disk(0.0, 0.0, 1.0), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(0, Outer, 1, Outer),
-            PP,
-            (-1.0, 0.0),
-            0.01,
-            (1.005, 0.0),
-            TOL,
-        );
+        check(&c[0], key(0, Outer, 1, Outer), PP, (-1.0, 0.0), 0.01, (1.005, 0.0), TOL);
     }
 
     /// Two disks 2.2 apart (g0 = 0.2 > d0): nothing. A ring seen from outside uses RE:
@@ -234,15 +176,7 @@ mod tests {
         assert!(contacts(0, 1, &disk(0.0, 0.0, 1.0), &disk(2.2, 0.0, 1.0), D0).is_empty());
         let c = contacts(0, 1, &ring(0.0, 0.0, 3.0, 1.0), &disk(0.0, 4.05, 1.0), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(0, Outer, 1, Outer),
-            PP,
-            (0.0, -1.0),
-            0.05,
-            (0.0, 3.025),
-            TOL,
-        );
+        check(&c[0], key(0, Outer, 1, Outer), PP, (0.0, -1.0), 0.05, (0.0, 3.025), TOL);
     }
 
     /// Math note §7.5 geometry: ring (index 0) RI = 100, disk (index 1) R = 40 at (-59.99, 0):
@@ -250,34 +184,11 @@ mod tests {
     /// g0 = 100 - 59.99 - 40 = 0.01, C_1 = (-99.99, 0), C_0 = (-100, 0), point (-99.995, 0).
     #[test]
     fn disk_inside_ring() {
-        let c = contacts(
-            0,
-            1,
-            &ring(0.0, 0.0, 110.0, 100.0),
-            &disk(-59.99, 0.0, 40.0),
-            D0,
-        );
+        let c = contacts(0, 1, &ring(0.0, 0.0, 110.0, 100.0), &disk(-59.99, 0.0, 40.0), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Outer, 0, Inner),
-            PP,
-            (1.0, 0.0),
-            100.0 - 59.99 - 40.0,
-            (-99.995, 0.0),
-            1e-11,
-        );
+        check(&c[0], key(1, Outer, 0, Inner), PP, (1.0, 0.0), 100.0 - 59.99 - 40.0, (-99.995, 0.0), 1e-11);
         // Centre well inside (g0 = 100 - 10 - 40 = 50): nothing.
-        assert!(
-            contacts(
-                0,
-                1,
-                &ring(0.0, 0.0, 110.0, 100.0),
-                &disk(-10.0, 0.0, 40.0),
-                D0
-            )
-            .is_empty()
-        );
+        assert!(contacts(0, 1, &ring(0.0, 0.0, 110.0, 100.0), &disk(-10.0, 0.0, 40.0), D0).is_empty());
     }
 
     /// Math note §5 degenerate case: coincident centres give a contact only if RI - R < d0,
@@ -287,15 +198,7 @@ mod tests {
         assert!(contacts(0, 1, &ring(0.0, 0.0, 2.0, 1.0), &disk(0.0, 0.0, 0.5), D0).is_empty());
         let c = contacts(0, 1, &ring(0.0, 0.0, 2.0, 1.0), &disk(0.0, 0.0, 0.95), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Outer, 0, Inner),
-            PP,
-            (-1.0, 0.0),
-            0.05,
-            (0.975, 0.0),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Inner), PP, (-1.0, 0.0), 0.05, (0.975, 0.0), TOL);
     }
 
     /// A small ring (index 1, RE = 1) in the hole of a big ring (index 0, RI = 5): the inside
@@ -303,23 +206,9 @@ mod tests {
     /// n = -x, C_1 = (4.95, 0), C_0 = (5, 0). Both centres are not in each other's hole here.
     #[test]
     fn ring_inside_ring() {
-        let c = contacts(
-            0,
-            1,
-            &ring(0.0, 0.0, 6.0, 5.0),
-            &ring(3.95, 0.0, 1.0, 0.5),
-            D0,
-        );
+        let c = contacts(0, 1, &ring(0.0, 0.0, 6.0, 5.0), &ring(3.95, 0.0, 1.0, 0.5), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Outer, 0, Inner),
-            PP,
-            (-1.0, 0.0),
-            0.05,
-            (4.975, 0.0),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Inner), PP, (-1.0, 0.0), 0.05, (4.975, 0.0), TOL);
     }
 
     /// Math note §5 P-B case I: unit square [0,1]², disk R = 0.5 at (0.3, 1.52) above the top
@@ -329,15 +218,7 @@ mod tests {
     fn disk_above_square_edge() {
         let c = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &disk(0.3, 1.52, 0.5), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Outer, 0, Edge(2)),
-            PB,
-            (0.0, 1.0),
-            0.02,
-            (0.3, 1.01),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Edge(2)), PB, (0.0, 1.0), 0.02, (0.3, 1.01), TOL);
     }
 
     /// Math note §5 P-B case III: unit square, disk R = 0.5 on the diagonal beyond the corner
@@ -347,24 +228,10 @@ mod tests {
     #[test]
     fn disk_at_square_corner() {
         let s = 0.51 / 2f64.sqrt();
-        let c = contacts(
-            0,
-            1,
-            &rect(0.0, 0.0, 1.0, 1.0),
-            &disk(1.0 + s, 1.0 + s, 0.5),
-            D0,
-        );
+        let c = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &disk(1.0 + s, 1.0 + s, 0.5), D0);
         assert_eq!(c.len(), 1);
         let (n, h) = (1.0 / 2f64.sqrt(), 0.005 / 2f64.sqrt());
-        check(
-            &c[0],
-            key(1, Outer, 0, Vertex(2)),
-            PB,
-            (n, n),
-            0.01,
-            (1.0 + h, 1.0 + h),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Vertex(2)), PB, (n, n), 0.01, (1.0 + h, 1.0 + h), TOL);
     }
 
     /// A disk in the notch of an L-shape touches both notch edges (case I twice) and never the
@@ -376,24 +243,8 @@ mod tests {
         let l = polygon(&[(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]);
         let c = contacts(0, 1, &l, &disk(1.26, 1.27, 0.25), D0);
         assert_eq!(c.len(), 2);
-        check(
-            &c[0],
-            key(1, Outer, 0, Edge(2)),
-            PB,
-            (0.0, 1.0),
-            0.02,
-            (1.26, 1.01),
-            TOL,
-        );
-        check(
-            &c[1],
-            key(1, Outer, 0, Edge(3)),
-            PB,
-            (1.0, 0.0),
-            0.01,
-            (1.005, 1.27),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Edge(2)), PB, (0.0, 1.0), 0.02, (1.26, 1.01), TOL);
+        check(&c[1], key(1, Outer, 0, Edge(3)), PB, (1.0, 0.0), 0.01, (1.005, 1.27), TOL);
     }
 
     /// Math note §5 P-B case IV: a diamond with vertices (0.99,0), (0.5,0.49), (0.01,0),
@@ -405,15 +256,7 @@ mod tests {
         let diamond = polygon(&[(0.99, 0.0), (0.5, 0.49), (0.01, 0.0), (0.5, -0.49)]);
         let c = contacts(0, 1, &diamond, &ring(0.0, 0.0, 3.0, 1.0), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Inner, 0, Vertex(0)),
-            PB,
-            (1.0, 0.0),
-            1.0 - 0.99,
-            (0.995, 0.0),
-            TOL,
-        );
+        check(&c[0], key(1, Inner, 0, Vertex(0)), PB, (1.0, 0.0), 1.0 - 0.99, (0.995, 0.0), TOL);
     }
 
     /// A ring (RE = 3) resting on a block from outside uses its outer radius: square
@@ -421,23 +264,9 @@ mod tests {
     /// n = +y, point (0, 0.02). The block is not in the hole, so no case IV.
     #[test]
     fn ring_on_block_uses_outer_radius() {
-        let c = contacts(
-            0,
-            1,
-            &rect(-5.0, -10.0, 5.0, 0.0),
-            &ring(0.0, 3.04, 3.0, 1.0),
-            D0,
-        );
+        let c = contacts(0, 1, &rect(-5.0, -10.0, 5.0, 0.0), &ring(0.0, 3.04, 3.0, 1.0), D0);
         assert_eq!(c.len(), 1);
-        check(
-            &c[0],
-            key(1, Outer, 0, Edge(2)),
-            PB,
-            (0.0, 1.0),
-            0.04,
-            (0.0, 0.02),
-            TOL,
-        );
+        check(&c[0], key(1, Outer, 0, Edge(2)), PB, (0.0, 1.0), 0.04, (0.0, 0.02), TOL);
     }
 
     mod random_particle_block {
@@ -449,22 +278,10 @@ mod tests {
         fn particle_near_block() -> impl Strategy<Value = (Vec<Vec2>, f64, bool, Vec2)> {
             let gaps = prop::collection::vec(1.0..1.9f64, 3..7);
             let l = (1.0..2.0f64, 1.0..2.0f64, 0.5..0.9f64);
-            (
-                gaps,
-                l,
-                1.0..2.0f64,
-                0.0..6.3f64,
-                any::<bool>(),
-                0.1..0.5f64,
-                any::<bool>(),
-                0.0..6.3f64,
-            )
+            (gaps, l, 1.0..2.0f64, 0.0..6.3f64, any::<bool>(), 0.1..0.5f64, any::<bool>(), 0.0..6.3f64)
                 .prop_map(|(g, (a, b, t), r, turn, concave, radius, is_ring, dir)| {
-                    let poly = if concave {
-                        l_shape(a, b, t, turn)
-                    } else {
-                        convex(Vec2::zeros(), r, turn, &g)
-                    };
+                    let poly =
+                        if concave { l_shape(a, b, t, turn) } else { convex(Vec2::zeros(), r, turn, &g) };
                     (poly, radius, is_ring, Vec2::new(dir.cos(), dir.sin()))
                 })
         }

@@ -21,8 +21,9 @@ pub type ContactMemory = HashMap<ContactKey, Memory>;
 
 /// The interface law for a pair of materials: the entry naming the pair, else the default
 /// entry (no `materials`), else a smooth interface.
-pub fn interface_for<'a>(interfaces: &'a [Interface], ma: usize, mb: usize) -> &'a Interface {
-    let pair = |i: &&Interface| matches!(i.materials, Some([x, y]) if (x, y) == (ma, mb) || (y, x) == (ma, mb));
+pub fn interface_for(interfaces: &[Interface], ma: usize, mb: usize) -> &Interface {
+    let pair =
+        |i: &&Interface| matches!(i.materials, Some([x, y]) if (x, y) == (ma, mb) || (y, x) == (ma, mb));
     interfaces
         .iter()
         .find(pair)

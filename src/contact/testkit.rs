@@ -13,11 +13,7 @@ pub fn polygon(pts: &[(f64, f64)]) -> BodyShape {
 pub fn polygon_of(vertices: Vec<Vec2>) -> BodyShape {
     let n = vertices.len();
     let turn = |k: usize| {
-        let (p, v, q) = (
-            vertices[(k + n - 1) % n],
-            vertices[k],
-            vertices[(k + 1) % n],
-        );
+        let (p, v, q) = (vertices[(k + n - 1) % n], vertices[k], vertices[(k + 1) % n]);
         cross(v - p, q - v)
     };
     let convex = (0..n).map(|k| turn(k) > 0.0).collect();
@@ -30,18 +26,11 @@ pub fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> BodyShape {
 }
 
 pub fn disk(x: f64, y: f64, radius: f64) -> BodyShape {
-    BodyShape::Disk {
-        center: Vec2::new(x, y),
-        radius,
-    }
+    BodyShape::Disk { center: Vec2::new(x, y), radius }
 }
 
 pub fn ring(x: f64, y: f64, outer: f64, inner: f64) -> BodyShape {
-    BodyShape::Ring {
-        center: Vec2::new(x, y),
-        outer,
-        inner,
-    }
+    BodyShape::Ring { center: Vec2::new(x, y), outer, inner }
 }
 
 /// The contacts of one pair, sorted by key.
@@ -67,10 +56,7 @@ pub fn check(
     assert_eq!(c.key, key, "{c:?}");
     assert_eq!((c.a, c.b), (key.a as usize, key.b as usize));
     assert_eq!(c.kind, kind);
-    assert!(
-        (c.normal - Vec2::new(n.0, n.1)).norm() < tol,
-        "normal {c:?}"
-    );
+    assert!((c.normal - Vec2::new(n.0, n.1)).norm() < tol, "normal {c:?}");
     assert!((c.g0 - g0).abs() < tol, "g0 {} vs {g0}", c.g0);
     assert!((c.point - Vec2::new(p.0, p.1)).norm() < tol, "point {c:?}");
 }
@@ -129,18 +115,13 @@ pub fn point_polygon(v: Vec2, p: &[Vec2]) -> f64 {
     if inside(v, p) {
         return 0.0;
     }
-    edges(p)
-        .iter()
-        .map(|s| point_segment(v, s.0, s.1))
-        .fold(f64::INFINITY, f64::min)
+    edges(p).iter().map(|s| point_segment(v, s.0, s.1)).fold(f64::INFINITY, f64::min)
 }
 
 /// Distance between two simple polygons (0 if they intersect).
 pub fn polygon_distance(p: &[Vec2], q: &[Vec2]) -> f64 {
     let (ep, eq) = (edges(p), edges(q));
-    let crossing = ep
-        .iter()
-        .any(|a| eq.iter().any(|b| segments_intersect(a.0, a.1, b.0, b.1)));
+    let crossing = ep.iter().any(|a| eq.iter().any(|b| segments_intersect(a.0, a.1, b.0, b.1)));
     if crossing || inside(p[0], q) || inside(q[0], p) {
         return 0.0;
     }

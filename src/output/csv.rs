@@ -30,7 +30,11 @@ impl std::fmt::Display for Num {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let x = self.0 + 0.0;
         let a = x.abs();
-        if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) { write!(f, "{x:e}") } else { write!(f, "{x}") }
+        if a != 0.0 && a.is_finite() && !(1e-4..1e15).contains(&a) {
+            write!(f, "{x:e}")
+        } else {
+            write!(f, "{x}")
+        }
     }
 }
 
@@ -49,7 +53,12 @@ pub struct CsvWriter {
 impl CsvWriter {
     /// Creates `dir` if needed and the files with their headers. Refuses a directory that
     /// holds an earlier run's files unless `overwrite`.
-    pub fn create(dir: &Path, every: usize, last_step: usize, overwrite: bool) -> Result<CsvWriter, OutputError> {
+    pub fn create(
+        dir: &Path,
+        every: usize,
+        last_step: usize,
+        overwrite: bool,
+    ) -> Result<CsvWriter, OutputError> {
         fs::create_dir_all(dir).map_err(io_err(dir))?;
         for name in OUTPUT_FILES {
             let path = dir.join(name);
@@ -127,7 +136,14 @@ impl CsvWriter {
         for b in &world.bodies {
             let (c, v) = (b.centroid, b.velocity);
             let (x, y, rot) = (Num(c.x), Num(c.y), Num(b.rotation));
-            write!(self.bodies, "{s},{t},{},{x},{y},{rot},{},{},{}", b.name, Num(v[0]), Num(v[1]), Num(v[2]))?;
+            write!(
+                self.bodies,
+                "{s},{t},{},{x},{y},{rot},{},{},{}",
+                b.name,
+                Num(v[0]),
+                Num(v[1]),
+                Num(v[2])
+            )?;
             if b.deformable {
                 for x in b.strain.iter().chain(b.stress.iter()) {
                     write!(self.bodies, ",{}", Num(*x))?;
@@ -158,7 +174,15 @@ impl CsvWriter {
             let body = &world.bodies[p.body];
             let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
             let (x, y) = (Num(p.current.x), Num(p.current.y));
-            writeln!(self.monitors, "{s},{t},{},{x},{y},{},{},{},{}", m.name, Num(u.x), Num(u.y), Num(v.x), Num(v.y))?;
+            writeln!(
+                self.monitors,
+                "{s},{t},{},{x},{y},{},{},{},{}",
+                m.name,
+                Num(u.x),
+                Num(u.y),
+                Num(v.x),
+                Num(v.y)
+            )?;
         }
         Ok(())
     }

@@ -11,8 +11,8 @@ use super::Problem;
 use super::raw;
 use crate::geometry::{PolygonDefect, Vec2, check_simple_polygon, signed_area2};
 use crate::model::{
-    BodyModel, BodySpec, ContactSettings, Interface, Load, Material, Model, Monitor,
-    OutputSettings, Physics, Plane, Shape, SolverSettings, TimeSettings,
+    BodyModel, BodySpec, ContactSettings, Interface, Load, Material, Model, Monitor, OutputSettings, Physics,
+    Plane, Shape, SolverSettings, TimeSettings,
 };
 
 type Check<T> = Result<T, Problem>;
@@ -29,11 +29,7 @@ pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
     let (materials, material_names) = materials(&raw.material)?;
     let interfaces = interfaces(&raw.interface, &material_names)?;
     let (bodies, body_names) = bodies(&raw.body, &material_names, &materials)?;
-    let loads = raw
-        .load
-        .iter()
-        .map(|l| load(l, &body_names))
-        .collect::<Check<_>>()?;
+    let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
     if let Some(c) = &raw.connector {
         return fail(c.span(), "[[connector]] is not supported yet");
     }
@@ -132,11 +128,7 @@ fn vec2(v: &Spanned<Vec<f64>>, key: &str) -> Check<Vec2> {
 /// A list of `[a, b]` pairs (`vertices`, `history`).
 fn pairs(v: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<Vec2>> {
     let each = |(i, p): (usize, &Vec<f64>)| numbers(p, v.span(), &format!("{key}[{i}]"));
-    v.get_ref()
-        .iter()
-        .enumerate()
-        .map(|p| each(p).map(|[a, b]| Vec2::new(a, b)))
-        .collect()
+    v.get_ref().iter().enumerate().map(|p| each(p).map(|[a, b]| Vec2::new(a, b))).collect()
 }
 
 /// One of the listed strings.
@@ -147,25 +139,18 @@ fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, T)]) -> Che
     }
     let names: Vec<String> = options.iter().map(|(s, _)| format!("\"{s}\"")).collect();
     let names = names.join(", ");
-    fail(
-        v.span(),
-        format!("{key} must be one of {names} (got \"{given}\")"),
-    )
+    fail(v.span(), format!("{key} must be one of {names} (got \"{given}\")"))
 }
 
 // ---------------------------------------------------------------- names
 
 /// Index of each name; a repeated name is an error at its second occurrence.
-fn unique_names<'a>(
-    names: impl Iterator<Item = &'a Spanned<String>>,
-    what: &str,
-) -> Check<Names<'a>> {
+fn unique_names<'a>(names: impl Iterator<Item = &'a Spanned<String>>, what: &str) -> Check<Names<'a>> {
     let mut map = Names::new();
     for (i, name) in names.enumerate() {
         if let Some(first) = map.insert(name.get_ref().as_str(), i) {
             let n = name.get_ref();
-            let message =
-                format!("duplicate {what} name \"{n}\" (already used by {what}[{first}])");
+            let message = format!("duplicate {what} name \"{n}\" (already used by {what}[{first}])");
             return fail(name.span(), message);
         }
     }
@@ -175,10 +160,7 @@ fn unique_names<'a>(
 fn resolve(names: &Names, name: &Spanned<String>, what: &str) -> Check<usize> {
     let n = name.get_ref();
     let message = || format!("unknown {what} \"{n}\"");
-    names
-        .get(n.as_str())
-        .copied()
-        .ok_or_else(|| Problem::new(name.span(), message()))
+    names.get(n.as_str()).copied().ok_or_else(|| Problem::new(name.span(), message()))
 }
 
 // ---------------------------------------------------------------- settings
@@ -212,9 +194,8 @@ fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
 fn physics(p: &raw::Physics) -> Check<Physics> {
     let plane_options = [("stress", Plane::Stress), ("strain", Plane::Strain)];
     let plane = |v: &Spanned<String>, key: &str| choice(v, key, &plane_options);
-    let carry = |v: &Spanned<f64>, key: &str| {
-        real(v, key, "be between 0 and 1", |k| (0.0..=1.0).contains(&k))
-    };
+    let carry =
+        |v: &Spanned<f64>, key: &str| real(v, key, "be between 0 and 1", |k| (0.0..=1.0).contains(&k));
     Ok(Physics {
         gravity: or_default(&p.gravity, "gravity", vec2, Vec2::zeros())?,
         plane: or_default(&p.plane, "plane", plane, Plane::Stress)?,
@@ -223,28 +204,19 @@ fn physics(p: &raw::Physics) -> Check<Physics> {
 }
 
 fn contact(c: &raw::Contact) -> Check<ContactSettings> {
-    Ok(ContactSettings {
-        threshold: optional(&c.threshold, "threshold", positive)?,
-    })
+    Ok(ContactSettings { threshold: optional(&c.threshold, "threshold", positive)? })
 }
 
 fn solver(s: &raw::Solver) -> Check<SolverSettings> {
     let default = SolverSettings::default();
     Ok(SolverSettings {
         tolerance: or_default(&s.tolerance, "tolerance", positive, default.tolerance)?,
-        max_iterations: or_default(
-            &s.max_iterations,
-            "max_iterations",
-            count,
-            default.max_iterations,
-        )?,
+        max_iterations: or_default(&s.max_iterations, "max_iterations", count, default.max_iterations)?,
     })
 }
 
 fn output(o: &raw::Output) -> Check<OutputSettings> {
-    Ok(OutputSettings {
-        every: or_default(&o.every, "every", count, 1)?,
-    })
+    Ok(OutputSettings { every: or_default(&o.every, "every", count, 1)? })
 }
 
 // ---------------------------------------------------------------- materials and interfaces
@@ -257,9 +229,7 @@ fn materials(raw: &[raw::Material]) -> Check<(Vec<Material>, Names<'_>)> {
 fn material(m: &raw::Material) -> Check<Material> {
     // ν = 0.5 is incompressible: the plane-strain elasticity matrix is singular
     let poisson = |v: &Spanned<f64>, key: &str| {
-        real(v, key, "be at least 0 and below 0.5", |nu| {
-            (0.0..0.5).contains(&nu)
-        })
+        real(v, key, "be at least 0 and below 0.5", |nu| (0.0..0.5).contains(&nu))
     };
     Ok(Material {
         name: m.name.get_ref().clone(),
@@ -279,14 +249,8 @@ fn interfaces(raw: &[Spanned<raw::Interface>], materials: &Names) -> Check<Vec<I
         let pair = interface.materials.map(|[a, b]| [a.min(b), a.max(b)]);
         if let Some(first) = seen.insert(pair, i) {
             let (span, what) = match &r.materials {
-                None => (
-                    header,
-                    "a second default interface (one without `materials`)",
-                ),
-                Some(m) => (
-                    m.span(),
-                    "a second interface for the same pair of materials",
-                ),
+                None => (header, "a second default interface (one without `materials`)"),
+                Some(m) => (m.span(), "a second interface for the same pair of materials"),
             };
             let message = format!("{what}; interface[{first}] already covers it");
             return fail(span, message);
@@ -309,33 +273,19 @@ fn interface(r: &raw::Interface, materials: &Names) -> Check<Interface> {
 
 fn material_pair(m: &Spanned<Vec<Spanned<String>>>, materials: &Names) -> Check<[usize; 2]> {
     match m.get_ref().as_slice() {
-        [a, b] => Ok([
-            resolve(materials, a, "material")?,
-            resolve(materials, b, "material")?,
-        ]),
-        other => fail(
-            m.span(),
-            format!("materials must name 2 materials (got {})", other.len()),
-        ),
+        [a, b] => Ok([resolve(materials, a, "material")?, resolve(materials, b, "material")?]),
+        other => fail(m.span(), format!("materials must name 2 materials (got {})", other.len())),
     }
 }
 
 /// μ from `friction`, or tan of `friction_angle` (degrees, below 90); 0 when neither is given.
 fn friction(r: &raw::Interface) -> Check<f64> {
     match (&r.friction, &r.friction_angle) {
-        (Some(_), Some(angle)) => fail(
-            angle.span(),
-            "give either `friction` or `friction_angle`, not both",
-        ),
+        (Some(_), Some(angle)) => fail(angle.span(), "give either `friction` or `friction_angle`, not both"),
         (Some(mu), None) => non_negative(mu, "friction"),
         (None, Some(angle)) => {
             let below_90 = |a| (0.0..90.0).contains(&a);
-            let degrees = real(
-                angle,
-                "friction_angle",
-                "be at least 0 and below 90",
-                below_90,
-            )?;
+            let degrees = real(angle, "friction_angle", "be at least 0 and below 90", below_90)?;
             Ok(degrees.to_radians().tan())
         }
         (None, None) => Ok(0.0),
@@ -352,11 +302,8 @@ enum ShapeKind {
     Polygon,
 }
 
-const SHAPES: [(&str, ShapeKind); 3] = [
-    ("disk", ShapeKind::Disk),
-    ("ring", ShapeKind::Ring),
-    ("polygon", ShapeKind::Polygon),
-];
+const SHAPES: [(&str, ShapeKind); 3] =
+    [("disk", ShapeKind::Disk), ("ring", ShapeKind::Ring), ("polygon", ShapeKind::Polygon)];
 
 fn bodies<'a>(
     raw: &'a Spanned<Vec<Spanned<raw::Body>>>,
@@ -367,11 +314,7 @@ fn bodies<'a>(
         return fail(raw.span(), "a scene needs at least one [[body]]");
     }
     let names = unique_names(raw.get_ref().iter().map(|b| &b.get_ref().name), "body")?;
-    let list = raw
-        .get_ref()
-        .iter()
-        .map(|b| body(b, materials, material_list))
-        .collect::<Check<_>>()?;
+    let list = raw.get_ref().iter().map(|b| body(b, materials, material_list)).collect::<Check<_>>()?;
     Ok((list, names))
 }
 
@@ -406,15 +349,15 @@ fn body(b: &Spanned<raw::Body>, materials: &Names, material_list: &[Material]) -
 /// `model`: "rigid" (default) or "deformable", which needs the material's `young` and
 /// `poisson`.
 fn body_model(b: &raw::Body, material: &Material) -> Check<BodyModel> {
-    let options = [
-        ("rigid", BodyModel::Rigid),
-        ("deformable", BodyModel::Deformable),
-    ];
+    let options = [("rigid", BodyModel::Rigid), ("deformable", BodyModel::Deformable)];
     let Some(m) = &b.model else { return Ok(BodyModel::Rigid) };
     let model = choice(m, "model", &options)?;
     if model == BodyModel::Deformable && (material.young.is_none() || material.poisson.is_none()) {
         let name = &material.name;
-        return fail(m.span(), format!("a deformable body needs `young` and `poisson` in material \"{name}\""));
+        return fail(
+            m.span(),
+            format!("a deformable body needs `young` and `poisson` in material \"{name}\""),
+        );
     }
     Ok(model)
 }
@@ -489,11 +432,7 @@ fn ring(b: &raw::Body, header: &Range<usize>) -> Check<Shape> {
         let message = format!("inner_radius must be less than radius (got {inner} >= {outer})");
         return fail(inner_value.span(), message);
     }
-    Ok(Shape::Ring {
-        center,
-        outer,
-        inner,
-    })
+    Ok(Shape::Ring { center, outer, inner })
 }
 
 /// A simple polygon of either orientation, stored counter-clockwise.
@@ -514,11 +453,7 @@ fn defect_message(defect: &PolygonDefect, n: usize) -> String {
         PolygonDefect::TooFewVertices => format!("a polygon needs at least 3 vertices (got {n})"),
         PolygonDefect::ZeroLengthEdge(i) => format!("zero-length edge {}", edge(*i)),
         PolygonDefect::SelfIntersection(i, j) => {
-            format!(
-                "the polygon intersects itself: edge {} meets edge {}",
-                edge(*i),
-                edge(*j)
-            )
+            format!("the polygon intersects itself: edge {} meets edge {}", edge(*i), edge(*j))
         }
         PolygonDefect::ZeroArea => "the polygon has zero area".to_owned(),
     }
@@ -543,10 +478,8 @@ fn history(h: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<(f64, f64)>> {
     }
     if let Some(i) = points.windows(2).position(|w| w[1].x <= w[0].x) {
         let (t0, t1) = (points[i].x, points[i + 1].x);
-        let message = format!(
-            "history times must increase strictly (history[{}] has time {t1} after {t0})",
-            i + 1
-        );
+        let message =
+            format!("history times must increase strictly (history[{}] has time {t1} after {t0})", i + 1);
         return fail(h.span(), message);
     }
     Ok(points.iter().map(|p| (p.x, p.y)).collect())

@@ -50,19 +50,11 @@ struct Problem {
 
 impl Problem {
     fn new(span: Range<usize>, message: impl Into<String>) -> Self {
-        Self {
-            span,
-            message: message.into(),
-            missing: None,
-        }
+        Self { span, message: message.into(), missing: None }
     }
 
     fn missing(table: Range<usize>, key: &str, message: impl Into<String>) -> Self {
-        Self {
-            span: table,
-            message: message.into(),
-            missing: Some(key.to_owned()),
-        }
+        Self { span: table, message: message.into(), missing: Some(key.to_owned()) }
     }
 
     /// A syntax error, or an unknown key, wrong type or missing key found by serde, which
@@ -84,15 +76,9 @@ impl Problem {
         {
             message = format!("duplicate key `{key}`");
         }
-        let missing = message
-            .strip_prefix("missing key `")
-            .and_then(|rest| rest.split('`').next())
-            .map(str::to_owned);
-        Self {
-            span,
-            message,
-            missing,
-        }
+        let missing =
+            message.strip_prefix("missing key `").and_then(|rest| rest.split('`').next()).map(str::to_owned);
+        Self { span, message, missing }
     }
 
     /// The error with line, column and key path. Only failures pay for the key index: the
@@ -102,11 +88,7 @@ impl Problem {
         let entry = keys.innermost(&self.span);
         let mut key = entry.map_or(String::new(), |e| e.path.clone());
         if let Some(missing) = self.missing {
-            key = if key.is_empty() {
-                missing
-            } else {
-                format!("{key}.{missing}")
-            };
+            key = if key.is_empty() { missing } else { format!("{key}.{missing}") };
         }
         // point at the whole `key = value` (so the column is the key's), else at the span itself
         let span = entry.map_or(self.span, |e| e.span.clone());
@@ -128,9 +110,7 @@ struct KeyEntry {
 
 impl KeyIndex {
     fn new(root: &DeTable) -> Self {
-        let mut index = Self {
-            entries: Vec::new(),
-        };
+        let mut index = Self { entries: Vec::new() };
         index.add_table(root, "", 0);
         index
     }

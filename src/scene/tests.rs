@@ -13,8 +13,7 @@ fn index(source: &str) -> KeyIndex {
 /// Path of the innermost key around the first occurrence of `needle` in `source`.
 fn path_at(keys: &KeyIndex, source: &str, needle: &str) -> Option<String> {
     let start = source.find(needle)?;
-    keys.innermost(&(start..start + needle.len()))
-        .map(|e| e.path.clone())
+    keys.innermost(&(start..start + needle.len())).map(|e| e.path.clone())
 }
 
 #[test]
@@ -24,21 +23,12 @@ fn key_paths_follow_tables_arrays_and_dotted_keys() {
     let keys = index(s);
     assert_eq!(path_at(&keys, s, "0.5").as_deref(), Some("time.step"));
     assert_eq!(path_at(&keys, s, "'b'").as_deref(), Some("body[1].name"));
-    assert_eq!(
-        path_at(&keys, s, "3").as_deref(),
-        Some("body[1].vertices[1][1]")
-    );
-    assert_eq!(
-        path_at(&keys, s, "[[0, 1], [2, 3]]").as_deref(),
-        Some("body[1].vertices")
-    );
+    assert_eq!(path_at(&keys, s, "3").as_deref(), Some("body[1].vertices[1][1]"));
+    assert_eq!(path_at(&keys, s, "[[0, 1], [2, 3]]").as_deref(), Some("body[1].vertices"));
     assert_eq!(path_at(&keys, s, "7").as_deref(), Some("body[1].x.y"));
     // an array of tables and its first element share the first header: the element wins
     assert_eq!(path_at(&keys, s, "[[body]]").as_deref(), Some("body[0]"));
-    assert!(
-        keys.innermost(&(0..0)).is_none(),
-        "an empty span names no key"
-    );
+    assert!(keys.innermost(&(0..0)).is_none(), "an empty span names no key");
 }
 
 #[test]
@@ -59,36 +49,18 @@ fn a_missing_key_extends_the_table_path() {
 #[test]
 fn serde_messages_speak_of_keys_arrays_and_numbers() {
     let s = "[time]\nstep = 'x'\nstepz = 1\n";
-    let Err(e) = toml::from_str::<raw::Time>("step = 'x'") else {
-        panic!("a string is not a number")
-    };
-    assert_eq!(
-        Problem::from_toml(&e, s).message,
-        "invalid type: string \"x\", expected a number"
-    );
-    let Err(e) = toml::from_str::<raw::Time>("steps = 1") else {
-        panic!("step is required")
-    };
+    let Err(e) = toml::from_str::<raw::Time>("step = 'x'") else { panic!("a string is not a number") };
+    assert_eq!(Problem::from_toml(&e, s).message, "invalid type: string \"x\", expected a number");
+    let Err(e) = toml::from_str::<raw::Time>("steps = 1") else { panic!("step is required") };
     let p = Problem::from_toml(&e, s);
-    assert_eq!(
-        (p.message.as_str(), p.missing.as_deref()),
-        ("missing key `step`", Some("step"))
-    );
+    assert_eq!((p.message.as_str(), p.missing.as_deref()), ("missing key `step`", Some("step")));
 }
 
 #[test]
 fn end_rounds_up_to_whole_steps_but_not_for_round_off() {
     assert_eq!(steps_for(1.0, 0.1), Some(10));
-    assert_eq!(
-        steps_for(0.07, 0.01),
-        Some(7),
-        "0.07 / 0.01 = 7.000000000000001"
-    );
-    assert_eq!(
-        steps_for(0.3, 0.1),
-        Some(3),
-        "0.3 / 0.1 = 2.9999999999999996"
-    );
+    assert_eq!(steps_for(0.07, 0.01), Some(7), "0.07 / 0.01 = 7.000000000000001");
+    assert_eq!(steps_for(0.3, 0.1), Some(3), "0.3 / 0.1 = 2.9999999999999996");
     assert_eq!(steps_for(0.25, 0.1), Some(3));
     assert_eq!(steps_for(1e-12, 1.0), None);
 }
