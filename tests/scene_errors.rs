@@ -756,3 +756,9 @@ proptest! {
         }
     }
 }
+
+/// Names go unquoted into the CSV outputs (docs/scene-format.md): no commas or quotes.
+#[test]
+fn names_must_be_csv_safe() {
+    fails(&edit(10, "name = \"d,1\""), "10 body[0].name: without commas");
+}

@@ -148,6 +148,14 @@ fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, T)]) -> Che
 fn unique_names<'a>(names: impl Iterator<Item = &'a Spanned<String>>, what: &str) -> Check<Names<'a>> {
     let mut map = Names::new();
     for (i, name) in names.enumerate() {
+        // names are written unquoted into the CSV outputs
+        let n = name.get_ref();
+        if n.is_empty() || n.contains([',', '"', '\n', '\r']) {
+            return fail(
+                name.span(),
+                format!("{what} name \"{n}\" must be non-empty, without commas, quotes or line breaks"),
+            );
+        }
         if let Some(first) = map.insert(name.get_ref().as_str(), i) {
             let n = name.get_ref();
             let message = format!("duplicate {what} name \"{n}\" (already used by {what}[{first}])");
