@@ -419,17 +419,9 @@ impl World {
             }
             refinements += 1;
         };
-        let zero_g0 = 1e-12 * self.threshold;
-        let needs_second =
-            contacts.iter().zip(&state.closed).any(|(c, &cl)| cl && c.start_gap.abs() > zero_g0);
+        let q2 = self.velocity_gaps(contacts, &q, &state);
         let mut z2 = z1.clone();
-        if needs_second {
-            let mut q2 = q.clone();
-            for (c, &cl) in contacts.iter().zip(&state.closed) {
-                if cl {
-                    q2[c.law.row] -= c.start_gap;
-                }
-            }
+        if q2 != q {
             run(&w, &q2, &mut z2, "solve 2");
         }
         let Classified { gaps, closed, impacting_rows } = state;
@@ -546,18 +538,50 @@ impl World {
         found.iter().find(|g| g.key == key).cloned()
     }
 
+    /// The gaps of solve 2, the velocity solve (math note §1.3 d): for every contact closed
+    /// in solve 1, g0 is dropped (split impulse). An impacting contact then reflects its
+    /// normal approach velocity (v1 = 2d/dt − v0 with d_n = 0: elastic impact, as the paper).
+    /// A persistent contact must instead end the step at rest relative to its surfaces: its
+    /// rows target n·Δd = (dt/2) n·Δv0 (and the same along τ), which gives a zero relative
+    /// velocity at the end, where the plain rule would flip a small residual velocity every
+    /// step (a deformable block settling on a sticking floor). Along the mid-step normal of a
+    /// refined curved contact the geometric part of the velocity is still reflected, as
+    /// circular motion needs, because Δv0 is measured along the start normal.
+    fn velocity_gaps(&self, contacts: &[Active], q: &[f64], state: &Classified) -> Vec<f64> {
+        let mut q2 = q.to_vec();
+        let half = 0.5 * self.dt();
+        for (c, &closed) in contacts.iter().zip(&state.closed) {
+            let r = c.law.row;
+            if !closed {
+                continue;
+            }
+            q2[r] -= c.start_gap;
+            if !state.impacting_rows[r] {
+                let v = self.relative_velocity(c);
+                q2[r] -= half * c.geom.normal.dot(&v);
+                q2[r + 1] -= half * cw(c.geom.normal).dot(&v);
+            }
+        }
+        q2
+    }
+
+    /// Velocity of A relative to B at the contact point at the step start (v0, math note §0).
+    fn relative_velocity(&self, c: &Active) -> Vec2 {
+        let x = c.geom.point;
+        let velocity = |b: usize| {
+            let body = &self.bodies[b];
+            body.displacement(x, &self.v0(body))
+        };
+        velocity(c.geom.a) - velocity(c.geom.b)
+    }
+
     /// Math note §1.3 (b): not closed at the end of the last step and approaching at the
     /// step start (the caller checks that it closed in solve 1).
     fn is_impacting(&self, c: &Active) -> bool {
         if c.memory.is_some_and(|m| m.closed) {
             return false;
         }
-        let x = c.geom.point;
-        let velocity = |b: usize| {
-            let body = &self.bodies[b];
-            body.displacement(x, &self.v0(body))
-        };
-        let rate = c.geom.normal.dot(&(velocity(c.geom.a) - velocity(c.geom.b)));
+        let rate = c.geom.normal.dot(&self.relative_velocity(c));
         // an approach slower than the solver's own gap accuracy per step is noise, not an
         // impact (doubling a resting contact's share would push its bodies into their
         // neighbours)
