@@ -341,19 +341,26 @@ impl World {
     }
 
     /// Stage 3: the contact Jacobian (rows normal, tangent and rolling of each contact;
-    /// math note §3.1, §4.4) and q = g0 + B d^f.
-    fn flexibility(&self, contacts: &[Active], df: &[Dofs]) -> (Jacobian, Vec<f64>) {
+    /// math note §3.1, §4.4) and q = g0 + B d^f. Contacts for which `rigid(k)` holds act on
+    /// the rigid-body DOFs only (their strain columns are zero; see [`Self::solve`]).
+    fn flexibility(&self, contacts: &[Active], df: &[Dofs], rigid: impl Fn(usize) -> bool) -> (Jacobian, Vec<f64>) {
         let rows = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
         let mut jac = Jacobian::new(self.bodies.len(), rows);
-        for c in contacts {
+        for (k, c) in contacts.iter().enumerate() {
             let (n, tau, r) = (c.normal, cw(c.normal), c.law.row);
+            let keep = |mut row: Dofs| {
+                if rigid(k) {
+                    row.rows_mut(3, 3).fill(0.0);
+                }
+                row
+            };
             for ((body, sign), x) in [(c.geom.a, 1.0), (c.geom.b, -1.0)].into_iter().zip(c.anchor) {
                 let b = &self.bodies[body];
                 if b.fixed {
                     continue;
                 }
-                jac.push(body, r, b.shape_row(x, n) * sign);
-                jac.push(body, r + 1, b.shape_row(x, tau) * sign);
+                jac.push(body, r, keep(b.shape_row(x, n) * sign));
+                jac.push(body, r + 1, keep(b.shape_row(x, tau) * sign));
                 if c.law.rolling > 0.0 {
                     // the couple acts on θ alone, on a block too (math note §4.4)
                     let mut couple = Dofs::zeros();
@@ -406,7 +413,7 @@ impl World {
         };
         let mut refinements = 0;
         let (jac, w, q, state) = loop {
-            let (jac, q) = self.flexibility(contacts, df);
+            let (jac, q) = self.flexibility(contacts, df, |_| false);
             let w = jac.operator(&self.flex);
             run(&w, &q, &mut z1, if refinements == 0 { "solve 1" } else { "solve 1, refined" });
             let state = self.classify(contacts, &w, &q, &z1);
@@ -419,14 +426,28 @@ impl World {
             }
             refinements += 1;
         };
-        let q2 = self.velocity_gaps(contacts, &q, &state);
+        // Impacts act on the rigid-body DOFs: the elastic rebound of a stiff body lasts far
+        // less than a step, and an impulse through the strain columns would leave a strain
+        // rate that the γ = 1 velocity update never returns to the motion (energy lost at
+        // every bounce). Solve 2 then gets its own Jacobian, else it shares solve 1's.
+        let impacting = |k: usize| state.impacting_rows[contacts[k].law.row];
+        let deformable_impact = (0..contacts.len())
+            .any(|k| impacting(k) && [contacts[k].geom.a, contacts[k].geom.b].iter().any(|&b| self.bodies[b].deformable));
+        let (jac2, w2, q_base) = if deformable_impact {
+            let (jac2, q2) = self.flexibility(contacts, df, impacting);
+            let w2 = jac2.operator(&self.flex);
+            (Some(jac2), Some(w2), q2)
+        } else {
+            (None, None, q.clone())
+        };
+        let q2 = self.velocity_gaps(contacts, &q_base, &state);
         let mut z2 = z1.clone();
         if q2 != q {
-            run(&w, &q2, &mut z2, "solve 2");
+            run(w2.as_ref().unwrap_or(&w), &q2, &mut z2, "solve 2");
         }
         let Classified { gaps, closed, impacting_rows } = state;
         let w_diag_max = w.diag_iter().flatten().fold(0.0f64, |m, x| m.max(*x));
-        Solved { jac, z1, z2, gaps, closed, impacting_rows, report, warnings, w_diag_max }
+        Solved { jac, jac2, z1, z2, gaps, closed, impacting_rows, report, warnings, w_diag_max }
     }
 
     /// Ten times the gap accuracy of a solve: tolerance × max(1, |z|max) × max W_jj (the
@@ -592,7 +613,7 @@ impl World {
     /// contacts' share doubled), d_vel = d^f + K⁻¹ C p2 for the velocity.
     fn split_displacements(&self, jac: &Jacobian, df: &[Dofs], s: &Solved) -> (Vec<Dofs>, Vec<Dofs>) {
         let dbar = geometry_increment(jac, &self.flex, df, &s.z1, &s.impacting_rows);
-        let dp2 = jac.response(&self.flex, &s.z2, |_| true);
+        let dp2 = s.jac2.as_ref().unwrap_or(jac).response(&self.flex, &s.z2, |_| true);
         let dvel = (0..df.len()).map(|b| df[b] + dp2[b]).collect();
         (dbar, dvel)
     }
@@ -743,6 +764,8 @@ struct Classified {
 struct Solved {
     /// The contact Jacobian the forces belong to.
     jac: Jacobian,
+    /// The Jacobian of solve 2 when it differs (impacts on deformable bodies).
+    jac2: Option<Jacobian>,
     /// Forces of solve 1 (geometry).
     z1: Vec<f64>,
     /// Forces of solve 2 (velocity; reported).

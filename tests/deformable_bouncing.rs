@@ -70,13 +70,11 @@ fn check(scene: &str, name: &str, a: f64) {
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): part of each impact impulse goes into a strain rate that the gamma = 1 velocity update never returns; 2.1e-4 m off the rigid path after 2000 steps"]
 fn deformable_ring_bounces_like_the_rigid_one() {
     check("7_3_ring_in_frame.toml", "ring", 17.0);
 }
 
 #[test]
-#[ignore = "known failure (issue 3 open): part of each impact impulse goes into a strain rate that the gamma = 1 velocity update never returns; 4.6e-3 m off the rigid path after 2000 steps"]
 fn deformable_block_bounces_like_the_rigid_one() {
     check("7_4_block_in_frame.toml", "block", 50.0);
 }
