@@ -1,5 +1,22 @@
 //! pbdda: discontinuous deformation analysis of particle-block systems in the
 //! variational-inequality form of Fan, Zhao & Zheng (2018), "PB-DDA".
+//!
+//! One time step, as data flow (see [`world`]; "math note" is `docs/math.md`):
+//!
+//! ```text
+//! scene (TOML)  -> scene::load -> Model            validated input
+//! Model         -> World::new                      bodies, flexibilities, contact memory
+//! World::step:  predict (body)  -> detect (contact) -> W = B K⁻¹ Bᵀ (cluster)
+//!               -> VI solves (vi) -> update (body) -> StepRecord -> output::csv
+//! ```
+//!
+//! ```no_run
+//! let model = pbdda::scene::load(std::path::Path::new("examples/7_1_disk_heap.toml"))?;
+//! let mut world = pbdda::world::World::new(model);
+//! let record = world.step()?;
+//! println!("{} contacts, residual {:e}", record.contacts.len(), record.residual);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod body;
 pub mod cli;
