@@ -7,7 +7,7 @@ use crate::body::Dofs;
 use crate::cluster::{Flexibility, Jacobian};
 use crate::contact::law::{ContactBounds, Law};
 use crate::contact::{BodyShape, ContactGeom, ContactKey};
-use crate::geometry::{Vec2, cw};
+use crate::geometry::Vec2;
 use crate::vi::{self, Problem};
 use std::collections::HashMap;
 
@@ -197,28 +197,14 @@ impl World {
         found.iter().find(|g| g.key == key).cloned()
     }
 
-    /// The gaps of solve 2, the velocity solve (math note §1.3 d): for every contact closed
-    /// in solve 1, g0 is dropped (split impulse). An impacting contact then reflects its
-    /// normal approach velocity (v1 = 2d/dt − v0 with d_n = 0: elastic impact, as the paper).
-    /// A persistent contact must instead end the step at rest relative to its surfaces: its
-    /// rows target n·Δd = (dt/2) n·Δv0 (and the same along τ), which gives a zero relative
-    /// velocity at the end, where the plain rule would flip a small residual velocity every
-    /// step (a deformable block settling on a sticking floor). Along the mid-step normal of a
-    /// refined curved contact the geometric part of the velocity is still reflected, as
-    /// circular motion needs, because Δv0 is measured along the start normal.
+    /// The gaps of solve 2, the velocity solve (math note §1.3 d): g0 dropped for every
+    /// contact closed in solve 1 (split impulse), so that the velocity follows from the
+    /// constraint alone (an impacting contact reflects its approach velocity).
     fn velocity_gaps(&self, contacts: &[Active], q: &[f64], state: &Classified) -> Vec<f64> {
         let mut q2 = q.to_vec();
-        let half = 0.5 * self.dt();
         for (c, &closed) in contacts.iter().zip(&state.closed) {
-            let r = c.law.row;
-            if !closed {
-                continue;
-            }
-            q2[r] -= c.start_gap;
-            if !state.impacting_rows[r] {
-                let v = self.relative_velocity(c);
-                q2[r] -= half * c.geom.normal.dot(&v);
-                q2[r + 1] -= half * cw(c.geom.normal).dot(&v);
+            if closed {
+                q2[c.law.row] -= c.start_gap;
             }
         }
         q2
