@@ -163,11 +163,6 @@ impl Body {
         self.moments.area
     }
 
-    /// Moment of inertia J = ρ ∫ r² dA about the centroid.
-    pub fn inertia(&self) -> f64 {
-        self.density() * (self.moments.sxx + self.moments.syy)
-    }
-
     /// Current density: mass over current area (mass is conserved as the body deforms).
     fn density(&self) -> f64 {
         self.mass / self.moments.area
@@ -386,6 +381,7 @@ pub fn convex_flags(v: &[Vec2]) -> Vec<bool> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::tests::l_shape;
 
     fn spec(shape: Shape, model: BodyModel) -> BodySpec {
         BodySpec {
@@ -420,13 +416,6 @@ mod tests {
             }
         }
         m
-    }
-
-    fn l_shape() -> Vec<Vec2> {
-        [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
-            .iter()
-            .map(|&(x, y)| Vec2::new(x, y))
-            .collect()
     }
 
     /// Closed-form mass matrices (rigid 3×3, deformable 6×6) against exact quadrature of

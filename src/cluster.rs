@@ -4,7 +4,7 @@
 //! small dense Cholesky and cached while dt does not change. Clusters of bodies joined by
 //! connectors (one sparse K per cluster) come with the connector work.
 
-use crate::body::{Body, BodyMatrix, Dofs, MAX_DOF};
+use crate::body::{Body, BodyMatrix, Dofs};
 use sprs::{CsMat, TriMat};
 
 /// K⁻¹ per body, K = K_e + (2/dt²) M (math note eq. 1.2).
@@ -18,10 +18,6 @@ impl Flexibility {
     pub fn new(bodies: &[Body], dt: f64) -> Flexibility {
         let kinv = bodies.iter().map(|b| body_flexibility(b, dt)).collect();
         Flexibility { dt, kinv }
-    }
-
-    pub fn dt(&self) -> f64 {
-        self.dt
     }
 
     /// Recomputes K⁻¹ of the deformable bodies, whose mass and stiffness follow their
@@ -124,5 +120,5 @@ impl Jacobian {
 
 /// Checks a DOF vector for NaN or infinity.
 pub fn is_finite(d: &Dofs) -> bool {
-    d.iter().take(MAX_DOF).all(|x| x.is_finite())
+    d.iter().all(|x| x.is_finite())
 }

@@ -160,11 +160,11 @@ impl Aabb {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn l_shape() -> Vec<Vec2> {
-        // L-shape: 2x2 square minus the 1x1 upper-right quarter, CCW.
+    /// L-shape: 2x2 square minus its 1x1 upper-right quarter, CCW (also used by body.rs).
+    pub(crate) fn l_shape() -> Vec<Vec2> {
         [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
             .iter()
             .map(|&(x, y)| Vec2::new(x, y))

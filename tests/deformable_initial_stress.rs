@@ -51,13 +51,12 @@ fn initial_stress_relaxes_to_the_closed_form_strain() {
     let block = &world.bodies[0];
     let (sx, sy, txy) = (-2.0e6, 1.0e6, 5.0e5);
     let expected = [-(sx - nu * sy) / e, -(sy - nu * sx) / e, -2.0 * (1.0 + nu) * txy / e];
-    for i in 0..3 {
+    for (i, want) in expected.iter().enumerate() {
         assert!(block.stress[i].abs() < 1e-9 * 2.0e6, "block stress {i}: {}", block.stress[i]);
         assert!(
-            (block.strain[i] - expected[i]).abs() < 1e-9 * 1e-3,
-            "block strain {i}: {} vs {}",
-            block.strain[i],
-            expected[i]
+            (block.strain[i] - want).abs() < 1e-9 * 1e-3,
+            "block strain {i}: {} vs {want}",
+            block.strain[i]
         );
     }
     let disk = &world.bodies[1];

@@ -244,7 +244,7 @@ impl World {
         }
         self.update(&dbar, &dvel, dt);
         self.flex.refresh(&self.bodies);
-        let broken = self.breakage(&contacts, &solved);
+        let broken = self.breakage(&solved);
         let records = self.contact_records(&contacts, &solved, &broken);
         self.remember(&contacts, &solved, &broken);
         self.step_index = step;
@@ -410,19 +410,24 @@ impl World {
         }
     }
 
+    /// The QVI bound rule over the contacts' laws (contact/law.rs).
+    fn bounds<'a>(&self, laws: &'a [Law]) -> ContactBounds<'a> {
+        ContactBounds { laws, share_cohesion: self.settings.share_cohesion }
+    }
+
     /// Bonded contacts that reached their tensile share and opened in solve 1: broken for
     /// good, together with their joint partner (math note §4.5, hypothesis iv).
-    fn breakage(&self, contacts: &[Active], s: &Solved) -> Vec<bool> {
-        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
-        let rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
+    fn breakage(&self, s: &Solved) -> Vec<bool> {
+        let laws = &s.laws;
+        let rule = self.bounds(laws);
         let opened = 1e-12 * self.threshold;
-        let mut broken: Vec<bool> = (0..contacts.len())
+        let mut broken: Vec<bool> = (0..laws.len())
             .map(|k| {
                 let (law, r) = (&laws[k], laws[k].row);
                 law.bonded && s.z1[r] <= -rule.tensile_bound(k, &s.z1) * (1.0 - 1e-9) && s.gaps[r] > opened
             })
             .collect();
-        for k in 0..contacts.len() {
+        for k in 0..laws.len() {
             if let Some(l) = laws[k].partner.filter(|_| broken[k]) {
                 broken[l] = true;
             }
@@ -443,8 +448,7 @@ impl World {
     }
 
     fn contact_records(&self, contacts: &[Active], s: &Solved, broken: &[bool]) -> Vec<ContactRecord> {
-        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
-        let rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
+        let rule = self.bounds(&s.laws);
         contacts
             .iter()
             .enumerate()

@@ -5,7 +5,7 @@
 use super::{Active, World};
 use crate::body::Dofs;
 use crate::cluster::{Flexibility, Jacobian};
-use crate::contact::law::{ContactBounds, Law};
+use crate::contact::law::Law;
 use crate::contact::{BodyShape, ContactGeom, ContactKey};
 use crate::geometry::Vec2;
 use crate::vi::{self, Problem};
@@ -23,7 +23,7 @@ impl World {
             jacobi: self.settings.jacobi,
         };
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
-        let mut rule = ContactBounds { laws: &laws, share_cohesion: self.settings.share_cohesion };
+        let mut rule = self.bounds(&laws);
         let mut z1 = vec![0.0; laws.last().map_or(0, |l| l.row + l.rows())];
         for c in contacts.iter() {
             let n = c.law.rows();
@@ -85,7 +85,7 @@ impl World {
         }
         let Classified { gaps, closed, impacting_rows } = state;
         let w_diag_max = w.diag_iter().flatten().fold(0.0f64, |m, x| m.max(*x));
-        Solved { jac, jac2, z1, z2, gaps, closed, impacting_rows, report, warnings, w_diag_max }
+        Solved { laws, jac, jac2, z1, z2, gaps, closed, impacting_rows, report, warnings, w_diag_max }
     }
 
     /// Ten times the gap accuracy of a solve: tolerance × max(1, |z|max) × max W_jj (the
@@ -266,6 +266,8 @@ struct Classified {
 
 /// Result of stage 4.
 pub(super) struct Solved {
+    /// The contacts' laws and VI row layout.
+    pub(super) laws: Vec<Law>,
     /// The contact Jacobian the forces belong to.
     pub(super) jac: Jacobian,
     /// The Jacobian of solve 2 when it differs (impacts on deformable bodies).
