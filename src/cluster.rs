@@ -5,7 +5,7 @@
 //! connectors (one sparse K per cluster) come with the connector work.
 
 use crate::body::{Body, BodyMatrix, Dofs};
-use sprs::{CsMat, TriMat};
+use sprs::CsMat;
 
 /// K⁻¹ per body, K = K_e + (2/dt²) M (math note eq. 1.2).
 #[derive(Debug, Clone)]
@@ -99,22 +99,44 @@ impl Jacobian {
     }
 
     /// W = B K⁻¹ Bᵀ, sparse and symmetric (both triangles stored): block (k, l) is non-zero
-    /// only when contacts k and l share a body (math note eq. 3.2).
+    /// only when contacts k and l share a body (math note eq. 3.2). Built row by row straight
+    /// into CSR: row r collects J_r · K_b⁻¹ J_s over the (at most two) bodies b of row r and
+    /// the rows s on b, so there is no global triplet sort.
     pub fn operator(&self, flex: &Flexibility) -> CsMat<f64> {
-        let nnz: usize = self.per_body.iter().map(|e| e.len() * e.len()).sum();
-        let mut tri = TriMat::with_capacity((self.rows, self.rows), nnz);
-        let mut cols: Vec<Dofs> = Vec::new();
+        // K_b⁻¹ J_s for every entry, and where each row sits in the per-body lists
+        let cols: Vec<Vec<Dofs>> = self
+            .per_body
+            .iter()
+            .enumerate()
+            .map(|(b, entries)| entries.iter().map(|(_, j)| flex.of(b) * j).collect())
+            .collect();
+        let mut at: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.rows];
         for (b, entries) in self.per_body.iter().enumerate() {
-            let kinv = flex.of(b);
-            cols.clear();
-            cols.extend(entries.iter().map(|(_, j)| kinv * j));
-            for (r, jr) in entries {
-                for ((s, _), fs) in entries.iter().zip(&cols) {
-                    tri.add_triplet(*r, *s, jr.dot(fs));
-                }
+            for (p, (r, _)) in entries.iter().enumerate() {
+                at[*r].push((b, p));
             }
         }
-        tri.to_csr()
+        let (mut indptr, mut indices, mut data) = (Vec::with_capacity(self.rows + 1), Vec::new(), Vec::new());
+        indptr.push(0);
+        let mut row: Vec<(usize, f64)> = Vec::new();
+        for places in &at {
+            row.clear();
+            for &(b, p) in places {
+                let jr = &self.per_body[b][p].1;
+                row.extend(self.per_body[b].iter().zip(&cols[b]).map(|((s, _), f)| (*s, jr.dot(f))));
+            }
+            row.sort_unstable_by_key(|e| e.0);
+            for &(s, v) in &row {
+                if indices.last() == Some(&s) && indices.len() > indptr[indptr.len() - 1] {
+                    *data.last_mut().expect("entry pushed with its index") += v;
+                } else {
+                    indices.push(s);
+                    data.push(v);
+                }
+            }
+            indptr.push(indices.len());
+        }
+        CsMat::new((self.rows, self.rows), indptr, indices, data)
     }
 }
 
