@@ -1,146 +1,234 @@
-//! Flexibility of the bodies and the contact operator W = B K⁻¹ Bᵀ (math note §3).
+//! The step stiffness K̃ = K_e + (2/dt²) M per cluster and its solves (math note eq. 1.2,
+//! §3.1 "coupled K", §10.6).
 //!
-//! Every body is its own cluster here: K is at most 6×6, inverted once in closed form /
-//! small dense Cholesky and cached while dt does not change. Clusters of bodies joined by
-//! connectors (one sparse K per cluster) come with the connector work.
+//! A cluster of one body keeps the closed-form path: K is at most 6×6, factorized by a small
+//! dense Cholesky and inverted (the reference path, nalgebra). A cluster of several bodies
+//! (joined by connectors) or a meshed body assembles a sparse K̃ and factorizes it with faer's
+//! sparse Cholesky: the symbolic analysis is done once while the sparsity pattern is
+//! unchanged, the numeric factorization whenever the values change. Nothing bigger than one
+//! body is ever inverted explicitly.
+//!
+//! ```
+//! use pbdda::cluster::SparseFactor;
+//! // K = [[4, 1], [1, 3]] as (row, col, value) triplets of the lower triangle and diagonal
+//! let mut f = SparseFactor::new(2);
+//! f.factorize(&[(0, 0, 4.0), (1, 0, 1.0), (1, 1, 3.0)]).unwrap();
+//! let mut x = [1.0, 2.0];
+//! f.solve_in_place(&mut x);
+//! assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-14 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-14);
+//! ```
 
 use crate::body::{Body, BodyMatrix, Dofs};
-use sprs::CsMat;
+use crate::dofs::DofMap;
+use faer::linalg::solvers::SolveCore;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut, Side};
 
-/// K⁻¹ per body, K = K_e + (2/dt²) M (math note eq. 1.2).
-#[derive(Debug, Clone)]
+/// A stiffness block coupling two bodies' DOFs (a connector's contribution): rows in body
+/// `.0`'s DOF order, columns in body `.1`'s.
+pub type CouplingBlock = (usize, usize, nalgebra::DMatrix<f64>);
+
+/// Why a step matrix could not be factorized.
+#[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
+#[error(
+    "the step stiffness of bodies {bodies:?} is not positive definite (zero or negative mass or stiffness?)"
+)]
+pub struct FactorError {
+    pub bodies: Vec<String>,
+}
+
+/// The factorized step stiffness of every cluster.
+#[derive(Debug, Clone, Default)]
 pub struct Flexibility {
-    dt: f64,
-    kinv: Vec<BodyMatrix>,
+    factors: Vec<Factor>,
+    /// Route single bodies through the sparse path too (a reference check of that path).
+    sparse_only: bool,
+}
+
+#[derive(Debug, Clone)]
+enum Factor {
+    /// K⁻¹ of one body, padded to 6×6 (closed-form reference path).
+    Body(BodyMatrix),
+    Sparse(SparseFactor),
 }
 
 impl Flexibility {
-    pub fn new(bodies: &[Body], dt: f64) -> Flexibility {
-        let kinv = bodies.iter().map(|b| body_flexibility(b, dt)).collect();
-        Flexibility { dt, kinv }
+    /// An empty flexibility; [`Self::refresh`] factorizes. With `sparse_only`, every cluster,
+    /// single bodies included, goes through the sparse Cholesky.
+    pub fn new(sparse_only: bool) -> Flexibility {
+        Flexibility { factors: Vec::new(), sparse_only }
     }
 
-    /// Recomputes K⁻¹ of the deformable bodies, whose mass and stiffness follow their
-    /// current geometry; rigid bodies keep their cached K⁻¹.
-    pub fn refresh(&mut self, bodies: &[Body]) {
-        for (k, b) in self.kinv.iter_mut().zip(bodies) {
-            if b.deformable {
-                *k = body_flexibility(b, self.dt);
+    /// Factorizes the clusters whose K̃ changed: all of them on the first call (or when the
+    /// cluster count changed), then those holding a deformable body (their mass and stiffness
+    /// follow the geometry) or a coupling (connector blocks follow the anchors).
+    pub fn refresh(
+        &mut self,
+        map: &DofMap,
+        bodies: &[Body],
+        couplings: &[CouplingBlock],
+        dt: f64,
+    ) -> Result<(), FactorError> {
+        let first = self.factors.len() != map.clusters();
+        if first {
+            self.factors.clear();
+        }
+        for c in 0..map.clusters() {
+            let members = map.members(c);
+            let changes = members.iter().any(|&b| bodies[b].deformable) || members.len() > 1;
+            if !first && !changes {
+                continue;
             }
+            let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
+            let factor = if members.len() == 1 && !self.sparse_only {
+                Factor::Body(body_flexibility(&bodies[members[0]], dt).ok_or_else(failed)?)
+            } else {
+                let triplets = cluster_triplets(map, c, bodies, couplings, dt);
+                let mut sparse = match self.factors.get_mut(c).filter(|_| !first) {
+                    Some(Factor::Sparse(s)) => std::mem::replace(s, SparseFactor::new(0)),
+                    _ => SparseFactor::new(map.cluster_range(c).len()),
+                };
+                sparse.factorize(&triplets).map_err(|_| failed())?;
+                Factor::Sparse(sparse)
+            };
+            if first {
+                self.factors.push(factor);
+            } else {
+                self.factors[c] = factor;
+            }
+        }
+        Ok(())
+    }
+
+    /// `v ← K̃⁻¹ v` for a vector over cluster `c`'s DOF range.
+    pub fn solve_cluster(&self, c: usize, v: &mut [f64]) {
+        match &self.factors[c] {
+            Factor::Body(kinv) => {
+                let mut d = Dofs::zeros();
+                d.as_mut_slice()[..v.len()].copy_from_slice(v);
+                let x = kinv * d;
+                v.copy_from_slice(&x.as_slice()[..v.len()]);
+            }
+            Factor::Sparse(f) => f.solve_in_place(v),
         }
     }
 
-    /// K⁻¹ of body `b` (zero for a fixed body).
-    pub fn of(&self, b: usize) -> &BodyMatrix {
-        &self.kinv[b]
+    /// `v ← K̃⁻¹ v` for a global DOF vector (clusters are independent).
+    pub fn solve_in_place(&self, map: &DofMap, v: &mut [f64]) {
+        for c in 0..map.clusters() {
+            self.solve_cluster(c, &mut v[map.cluster_range(c)]);
+        }
     }
 }
 
-/// K⁻¹ of one body; the n×n leading block of the padded matrix.
-fn body_flexibility(body: &Body, dt: f64) -> BodyMatrix {
+/// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2), padded to 6×6; `None` when K is
+/// not positive definite (a body without mass).
+fn body_flexibility(body: &Body, dt: f64) -> Option<BodyMatrix> {
     let n = body.ndof();
     let k = body.elastic_stiffness() + body.mass_matrix() * (2.0 / (dt * dt));
     let mut out = BodyMatrix::zeros();
-    if n == 0 {
-        return out;
+    let inv = k.view((0, 0), (n, n)).clone_owned().cholesky()?.inverse();
+    if !inv.iter().all(|x| x.is_finite()) {
+        return None;
     }
-    let block = k.view((0, 0), (n, n)).clone_owned();
-    // K is SPD (the mass term guarantees it, math note §3.2).
-    let inv = block.cholesky().map(|c| c.inverse()).unwrap_or_else(|| {
-        // Unreachable for positive mass; fall back to a pseudo-inverse-free zero response.
-        nalgebra::DMatrix::zeros(n, n)
-    });
     out.view_mut((0, 0), (n, n)).copy_from(&inv);
-    out
+    Some(out)
 }
 
-/// The contact Jacobian B, stored per body: for each body the rows of B that touch it,
-/// as (row index, row restricted to the body's DOFs). Row `r` of B is the gap direction
-/// `s n_kᵀ T_b(x_k)` (normal), `s τ_kᵀ T_b(x_k)` (tangent) of math note §3.1.
-#[derive(Debug, Clone, Default)]
-pub struct Jacobian {
-    pub rows: usize,
-    pub per_body: Vec<Vec<(usize, Dofs)>>,
+/// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃: the bodies' blocks
+/// plus the coupling blocks between its bodies.
+fn cluster_triplets(
+    map: &DofMap,
+    c: usize,
+    bodies: &[Body],
+    couplings: &[CouplingBlock],
+    dt: f64,
+) -> Vec<(usize, usize, f64)> {
+    let base = map.cluster_range(c).start;
+    let mut t = Vec::new();
+    let mut push = |r: usize, col: usize, v: f64| {
+        if r >= col {
+            t.push((r - base, col - base, v));
+        }
+    };
+    for &b in map.members(c) {
+        let k = bodies[b].elastic_stiffness() + bodies[b].mass_matrix() * (2.0 / (dt * dt));
+        let r = map.range(b);
+        for i in 0..r.len() {
+            for j in 0..r.len() {
+                push(r.start + i, r.start + j, k[(i, j)]);
+            }
+        }
+    }
+    for (a, b, block) in couplings.iter().filter(|(a, _, _)| map.cluster_of(*a) == Some(c)) {
+        let (ra, rb) = (map.range(*a), map.range(*b));
+        for i in 0..ra.len() {
+            for j in 0..rb.len() {
+                push(ra.start + i, rb.start + j, block[(i, j)]);
+            }
+        }
+    }
+    t
 }
 
-impl Jacobian {
-    pub fn new(bodies: usize, rows: usize) -> Jacobian {
-        Jacobian { rows, per_body: vec![Vec::new(); bodies] }
-    }
-
-    pub fn push(&mut self, body: usize, row: usize, entry: Dofs) {
-        self.per_body[body].push((row, entry));
-    }
-
-    /// `B d` for per-body DOF vectors `d`.
-    pub fn apply(&self, d: &[Dofs]) -> Vec<f64> {
-        let mut out = vec![0.0; self.rows];
-        for (b, entries) in self.per_body.iter().enumerate() {
-            for (r, j) in entries {
-                out[*r] += j.dot(&d[b]);
-            }
-        }
-        out
-    }
-
-    /// Response `K⁻¹ Bᵀ z` per body (paper eq. 22: d^p = K⁻¹ C p). `keep(row)` selects rows.
-    pub fn response(&self, flex: &Flexibility, z: &[f64], keep: impl Fn(usize) -> bool) -> Vec<Dofs> {
-        self.per_body
-            .iter()
-            .enumerate()
-            .map(|(b, entries)| {
-                let load = entries
-                    .iter()
-                    .filter(|(r, _)| keep(*r))
-                    .fold(Dofs::zeros(), |acc, (r, j)| acc + j * z[*r]);
-                flex.of(b) * load
-            })
-            .collect()
-    }
-
-    /// W = B K⁻¹ Bᵀ, sparse and symmetric (both triangles stored): block (k, l) is non-zero
-    /// only when contacts k and l share a body (math note eq. 3.2). Built row by row straight
-    /// into CSR: row r collects J_r · K_b⁻¹ J_s over the (at most two) bodies b of row r and
-    /// the rows s on b, so there is no global triplet sort.
-    pub fn operator(&self, flex: &Flexibility) -> CsMat<f64> {
-        // K_b⁻¹ J_s for every entry, and where each row sits in the per-body lists
-        let cols: Vec<Vec<Dofs>> = self
-            .per_body
-            .iter()
-            .enumerate()
-            .map(|(b, entries)| entries.iter().map(|(_, j)| flex.of(b) * j).collect())
-            .collect();
-        let mut at: Vec<Vec<(usize, usize)>> = vec![Vec::new(); self.rows];
-        for (b, entries) in self.per_body.iter().enumerate() {
-            for (p, (r, _)) in entries.iter().enumerate() {
-                at[*r].push((b, p));
-            }
-        }
-        let (mut indptr, mut indices, mut data) = (Vec::with_capacity(self.rows + 1), Vec::new(), Vec::new());
-        indptr.push(0);
-        let mut row: Vec<(usize, f64)> = Vec::new();
-        for places in &at {
-            row.clear();
-            for &(b, p) in places {
-                let jr = &self.per_body[b][p].1;
-                row.extend(self.per_body[b].iter().zip(&cols[b]).map(|((s, _), f)| (*s, jr.dot(f))));
-            }
-            row.sort_unstable_by_key(|e| e.0);
-            for &(s, v) in &row {
-                if indices.last() == Some(&s) && indices.len() > indptr[indptr.len() - 1] {
-                    *data.last_mut().expect("entry pushed with its index") += v;
-                } else {
-                    indices.push(s);
-                    data.push(v);
-                }
-            }
-            indptr.push(indices.len());
-        }
-        CsMat::new((self.rows, self.rows), indptr, indices, data)
-    }
+/// A sparse SPD matrix factorized by faer's supernodal/simplicial Cholesky, with the
+/// symbolic analysis kept while the sparsity pattern stays the same.
+#[derive(Debug, Clone)]
+pub struct SparseFactor {
+    n: usize,
+    /// Sparsity pattern (sorted, deduplicated (row, col) of the lower triangle) of the last
+    /// symbolic analysis.
+    pattern: Vec<(usize, usize)>,
+    symbolic: Option<SymbolicLlt<usize>>,
+    numeric: Option<Llt<usize, f64>>,
 }
 
-/// Checks a DOF vector for NaN or infinity.
-pub fn is_finite(d: &Dofs) -> bool {
-    d.iter().all(|x| x.is_finite())
+/// The sparse factorization failed (matrix not positive definite, or out of memory).
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("sparse Cholesky factorization failed: {0}")]
+pub struct SparseError(String);
+
+impl SparseFactor {
+    pub fn new(n: usize) -> SparseFactor {
+        SparseFactor { n, pattern: Vec::new(), symbolic: None, numeric: None }
+    }
+
+    /// Number of symbolic analyses done so far is observable through this: the symbolic
+    /// factorization is reused while the pattern of `triplets` does not change.
+    pub fn has_symbolic(&self) -> bool {
+        self.symbolic.is_some()
+    }
+
+    /// Numeric factorization of the symmetric matrix given by its lower-triangle `triplets`
+    /// (duplicates are summed); symbolic analysis only when the pattern changed.
+    pub fn factorize(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), SparseError> {
+        let entries: Vec<Triplet<usize, usize, f64>> =
+            triplets.iter().map(|&(r, c, v)| Triplet::new(r, c, v)).collect();
+        let mat = SparseColMat::<usize, f64>::try_new_from_triplets(self.n, self.n, &entries)
+            .map_err(|e| SparseError(format!("{e:?}")))?;
+        let pattern: Vec<(usize, usize)> =
+            (0..self.n).flat_map(|j| mat.symbolic().row_idx_of_col(j).map(move |i| (i, j))).collect();
+        if self.symbolic.is_none() || pattern != self.pattern {
+            self.symbolic = Some(
+                SymbolicLlt::try_new(mat.symbolic(), Side::Lower)
+                    .map_err(|e| SparseError(format!("{e:?}")))?,
+            );
+            self.pattern = pattern;
+        }
+        let symbolic = self.symbolic.clone().ok_or_else(|| SparseError("no symbolic factor".into()))?;
+        self.numeric = Some(
+            Llt::try_new_with_symbolic(symbolic, mat.as_ref(), Side::Lower)
+                .map_err(|e| SparseError(format!("{e:?}")))?,
+        );
+        Ok(())
+    }
+
+    /// `x ← K⁻¹ x` (no-op before a successful factorization).
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        if let Some(llt) = &self.numeric {
+            let n = x.len();
+            llt.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(x, n, 1));
+        }
+    }
 }

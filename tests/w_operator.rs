@@ -1,15 +1,23 @@
-//! The contact operator W = B K⁻¹ Bᵀ (math note §3): assembled sparse from per-body blocks, it
-//! must equal the dense product B K⁻¹ Bᵀ, be symmetric, and be positive semidefinite
-//! (z ᵀ W z = |K^{-1/2} Bᵀ z|² >= 0, §3.2). Random scenes of rigid disks and polygons with
-//! random contacts between random pairs (including fixed bodies, which carry no DOF, and
-//! deformable bodies with 4 and 6 DOF).
-//! Tolerances: 1e-12 relative to the largest entry (round-off of 3-term sums); the smallest
-//! eigenvalue may be negative only by round-off, 1e-10 of the largest.
+//! The contact operator W = B K̃⁻¹ Bᵀ (math note §3.1, §10.6): assembled sparse from per-cluster
+//! columns, it must equal the dense product B K̃⁻¹ Bᵀ, be symmetric, and be positive
+//! semidefinite (zᵀ W z = |K̃^{-1/2} Bᵀ z|² >= 0, §3.2). Random scenes of rigid disks, rings and
+//! polygons with random contacts between random pairs (including fixed bodies, which carry no
+//! DOF, and deformable bodies with 4 and 6 DOF), and random translational springs coupling
+//! random pairs into clusters (sparse Cholesky path); the same scenes with every cluster, single
+//! bodies included, forced through the sparse path.
+//! Tolerances: 1e-10 relative to the largest entry: the dense reference inverts K̃ by LU, the
+//! code by Cholesky; K̃'s condition number here is at most ~1e8 (mass terms 2m/dt² against
+//! springs up to 1e6), so both agree to ~1e-16 × 1e8 = 1e-8 of the largest entry of K̃⁻¹ in the
+//! worst case and far better in practice; symmetry to 1e-12 (round-off of 3-term sums); the
+//! smallest eigenvalue may be negative only by round-off, 1e-10 of the largest.
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use pbdda::body::Body;
-use pbdda::cluster::{Flexibility, Jacobian};
+use pbdda::cluster::{CouplingBlock, Flexibility};
+use pbdda::delassus;
+use pbdda::dofs::DofMap;
 use pbdda::geometry::{Vec2, cw};
+use pbdda::jacobian::Jacobian;
 use pbdda::model::{BodyModel, BodySpec, Material, Plane, Shape};
 use proptest::prelude::*;
 
@@ -40,8 +48,9 @@ fn spec(i: usize, kind: u8, x: f64, y: f64, size: f64, fixed: bool, deformable: 
 prop_compose! {
     fn scene()(bodies in prop::collection::vec((0u8..3, -5.0..5.0f64, -5.0..5.0f64, 0.2..2.0f64, prop::bool::weighted(0.2), 1.0..1e4f64, prop::bool::ANY, 1e6..1e12f64), 2..8),
                contacts in prop::collection::vec((0usize..100, 0usize..100, -6.0..6.0f64, -6.0..6.0f64, 0.0..std::f64::consts::TAU), 1..15),
+               springs in prop::collection::vec((0usize..100, 0usize..100, 1e2..1e6f64), 0..5),
                dt in 1e-4..0.1f64)
-        -> (Vec<Body>, Vec<(usize, usize, Vec2, Vec2)>, f64) {
+        -> (Vec<Body>, Vec<(usize, usize, Vec2, Vec2)>, Vec<(usize, usize, f64)>, f64) {
         let n = bodies.len();
         let bodies: Vec<Body> = bodies.iter().enumerate()
             .map(|(i, &(k, x, y, s, fixed, rho, deformable, young))| {
@@ -52,43 +61,110 @@ prop_compose! {
             let (a, b) = (a % n, b % n);
             (a != b).then(|| (a, b, Vec2::new(x, y), Vec2::new(ang.cos(), ang.sin())))
         }).collect();
-        (bodies, contacts, dt)
+        let springs = springs.iter().filter_map(|&(a, b, k)| {
+            let (a, b) = (a % n, b % n);
+            (a != b).then_some((a, b, k))
+        }).collect();
+        (bodies, contacts, springs, dt)
     }
+}
+
+/// Stiffness blocks of a zero-length translational spring k between bodies a and b: k [I −I; −I I]
+/// on the translations (u0, v0), positive semidefinite.
+fn spring_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<CouplingBlock> {
+    let block = |i: usize, j: usize, s: f64| {
+        let mut m = DMatrix::zeros(bodies[i].ndof(), bodies[j].ndof());
+        for d in 0..2.min(bodies[i].ndof()).min(bodies[j].ndof()) {
+            m[(d, d)] = s * k;
+        }
+        (i, j, m)
+    };
+    vec![block(a, a, 1.0), block(b, b, 1.0), block(a, b, -1.0), block(b, a, -1.0)]
+}
+
+fn check_scene(
+    bodies: &[Body],
+    contacts: &[(usize, usize, Vec2, Vec2)],
+    springs: &[(usize, usize, f64)],
+    dt: f64,
+    sparse_only: bool,
+) -> Result<(), TestCaseError> {
+    let pairs: Vec<(usize, usize)> = springs.iter().map(|&(a, b, _)| (a, b)).collect();
+    let map = DofMap::new(bodies, &pairs);
+    let couplings: Vec<CouplingBlock> = springs
+        .iter()
+        .filter(|&&(a, b, _)| !bodies[a].fixed && !bodies[b].fixed)
+        .flat_map(|&(a, b, k)| spring_blocks(bodies, a, b, k))
+        .collect();
+    let mut flex = Flexibility::new(sparse_only);
+    flex.refresh(&map, bodies, &couplings, dt).expect("K̃ is SPD");
+    let rows = 2 * contacts.len();
+    let total = map.total();
+    let mut jac = Jacobian::default();
+    jac.reset(rows);
+    let mut b_dense: DMatrix<f64> = DMatrix::zeros(rows, total);
+    let mut k_dense: DMatrix<f64> = DMatrix::zeros(total, total);
+    for (i, body) in bodies.iter().enumerate() {
+        let k = body.elastic_stiffness() + body.mass_matrix() * (2.0 / (dt * dt));
+        let r = map.range(i);
+        for p in 0..r.len() {
+            for q in 0..r.len() {
+                k_dense[(r.start + p, r.start + q)] += k[(p, q)];
+            }
+        }
+    }
+    for (a, b, m) in &couplings {
+        let (ra, rb) = (map.range(*a), map.range(*b));
+        for p in 0..ra.len() {
+            for q in 0..rb.len() {
+                k_dense[(ra.start + p, rb.start + q)] += m[(p, q)];
+            }
+        }
+    }
+    for (k, &(a, b, x, n)) in contacts.iter().enumerate() {
+        for (body, sign) in [(a, 1.0), (b, -1.0)] {
+            let Some(cluster) = map.cluster_of(body) else { continue };
+            let r = map.range(body);
+            for (row, dir) in [(2 * k, n), (2 * k + 1, cw(n))] {
+                let j = bodies[body].shape_row(x, dir) * sign;
+                jac.push(row, cluster, r.start, r.len(), j);
+                for c in 0..r.len() {
+                    b_dense[(row, r.start + c)] += j[c];
+                }
+            }
+        }
+    }
+    let w = delassus::assemble(&jac, &flex, &map).to_dense();
+    let kinv = k_dense.clone().lu().try_inverse().expect("K̃ invertible");
+    let reference: DMatrix<f64> = &b_dense * &kinv * b_dense.transpose();
+    let scale = reference.amax().max(1e-300);
+    for r in 0..rows {
+        for c in 0..rows {
+            prop_assert!(
+                (w[[r, c]] - reference[(r, c)]).abs() <= 1e-10 * scale,
+                "W[{r},{c}] = {} vs {}",
+                w[[r, c]],
+                reference[(r, c)]
+            );
+            prop_assert!((w[[r, c]] - w[[c, r]]).abs() <= 1e-12 * scale);
+        }
+    }
+    let eig = SymmetricEigen::new(reference.clone());
+    prop_assert!(eig.eigenvalues.min() >= -1e-10 * scale, "min eigenvalue {}", eig.eigenvalues.min());
+    Ok(())
 }
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
     #[test]
-    fn w_is_b_kinv_bt_symmetric_psd((bodies, contacts, dt) in scene()) {
+    fn w_is_b_kinv_bt_symmetric_psd((bodies, contacts, springs, dt) in scene()) {
         prop_assume!(!contacts.is_empty());
-        let flex = Flexibility::new(&bodies, dt);
-        let rows = 2 * contacts.len();
-        let mut jac = Jacobian::new(bodies.len(), rows);
-        let ndof: Vec<usize> = bodies.iter().map(|b| b.ndof()).collect();
-        let offset: Vec<usize> = ndof.iter().scan(0, |s, &n| { let o = *s; *s += n; Some(o) }).collect();
-        let total: usize = ndof.iter().sum();
-        let mut b_dense = DMatrix::zeros(rows, total);
-        let mut kinv_dense = DMatrix::zeros(total, total);
-        for i in 0..bodies.len() {
-            for r in 0..ndof[i] { for c in 0..ndof[i] { kinv_dense[(offset[i] + r, offset[i] + c)] = flex.of(i)[(r, c)]; } }
-        }
-        for (k, &(a, b, x, n)) in contacts.iter().enumerate() {
-            for (body, sign) in [(a, 1.0), (b, -1.0)] {
-                for (row, dir) in [(2 * k, n), (2 * k + 1, cw(n))] {
-                    let j = bodies[body].shape_row(x, dir) * sign;
-                    if ndof[body] > 0 { jac.push(body, row, j); }
-                    for c in 0..ndof[body] { b_dense[(row, offset[body] + c)] += j[c]; }
-                }
-            }
-        }
-        let w = jac.operator(&flex).to_dense();
-        let reference = &b_dense * &kinv_dense * b_dense.transpose();
-        let scale = reference.amax().max(1e-300);
-        for r in 0..rows { for c in 0..rows {
-            prop_assert!((w[[r, c]] - reference[(r, c)]).abs() <= 1e-12 * scale, "W[{r},{c}] = {} vs {}", w[[r, c]], reference[(r, c)]);
-            prop_assert!((w[[r, c]] - w[[c, r]]).abs() <= 1e-12 * scale);
-        }}
-        let eig = SymmetricEigen::new(reference.clone());
-        prop_assert!(eig.eigenvalues.min() >= -1e-10 * scale, "min eigenvalue {}", eig.eigenvalues.min());
+        check_scene(&bodies, &contacts, &springs, dt, false)?;
+    }
+
+    #[test]
+    fn sparse_path_gives_the_same_w((bodies, contacts, springs, dt) in scene()) {
+        prop_assume!(!contacts.is_empty());
+        check_scene(&bodies, &contacts, &springs, dt, true)?;
     }
 }

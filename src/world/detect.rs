@@ -1,0 +1,72 @@
+//! Stage 2: contacts within the threshold, with their laws and memory (math note §5, §4).
+
+use super::World;
+use crate::contact::law::Law;
+use crate::contact::set::{Memory, joint_partners};
+use crate::contact::{ContactGeom, ContactKind, detect};
+
+/// A detected contact: geometry, law and what it remembers from the last step. Immutable
+/// once detected; the solve stages linearize it (see `rows.rs`).
+pub(super) struct Contact {
+    pub geom: ContactGeom,
+    pub law: Law,
+    pub memory: Option<Memory>,
+    /// g0 as the solver sees it: a penetration shallower than the allowance counts as
+    /// touching (math note §10.2).
+    pub start_gap: f64,
+}
+
+impl World {
+    /// Contacts within the threshold, enlarged when the predicted motion of this step needs
+    /// it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA), with their laws and VI row
+    /// layout.
+    pub(super) fn detect(&self, df: &[f64]) -> Vec<Contact> {
+        let u_max = (0..self.bodies.len())
+            .map(|b| self.bodies[b].max_displacement(&self.dofs.gather(df, b)))
+            .fold(0.0, f64::max);
+        let threshold = self.threshold.max(2.5 * u_max);
+        let geoms = detect(&self.shapes(), &self.fixed(), threshold);
+        let partners = joint_partners(&geoms);
+        let mut row = 0;
+        geoms
+            .into_iter()
+            .zip(partners)
+            .map(|(geom, partner)| {
+                let memory = self.memory.get(&geom.key).copied();
+                let law = self.law(&geom, partner, memory, row);
+                row += law.rows();
+                let start_gap = if geom.g0 < 0.0 && geom.g0 > -self.allowance { 0.0 } else { geom.g0 };
+                Contact { geom, law, memory, start_gap }
+            })
+            .collect()
+    }
+
+    /// The law of one contact: interface of the two materials, capacities over the joint's
+    /// length, rolling rows for particle contacts only (math note §4.4).
+    fn law(&self, g: &ContactGeom, partner: Option<usize>, memory: Option<Memory>, row: usize) -> Law {
+        let i = self.interface(g.a, g.b);
+        let particle = g.kind != ContactKind::BB;
+        let intact = !self.broken.contains(&g.key);
+        Law {
+            row,
+            friction: i.friction,
+            cohesion: if intact { i.cohesion * g.joint_length } else { 0.0 },
+            tensile: i.tensile_strength * g.joint_length,
+            rolling: if particle { i.rolling } else { 0.0 },
+            bonded: intact && memory.is_some_and(|m| m.bonded),
+            partner,
+        }
+    }
+
+    /// Cements the contacts closed at t = 0 whose interface has a tensile strength (math
+    /// note §4.5, hypothesis i). Only joints have a length, so only edge-edge joints bond.
+    pub(super) fn cement(&mut self) {
+        let closed = 1e-9 * self.threshold;
+        for g in detect(&self.shapes(), &self.fixed(), self.threshold) {
+            let law = self.interface(g.a, g.b);
+            if law.tensile_strength > 0.0 && g.joint_length > 0.0 && g.g0.abs() <= closed {
+                self.memory.insert(g.key, Memory { force: [0.0; 3], closed: true, bonded: true });
+            }
+        }
+    }
+}

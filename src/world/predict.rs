@@ -1,0 +1,44 @@
+//! Stage 1: the contact-free prediction d^f = K̃⁻¹ f (math note eq. 1.3), with
+//! f = f_ext(t1) + (2/dt) M v0 + f_σ (eq. 1.2; loads at the end of the step, where the
+//! implicit scheme evaluates the equation of motion).
+
+use super::World;
+use crate::body::Body;
+use crate::geometry::Vec2;
+use crate::model::Load;
+
+impl World {
+    /// d^f as a global DOF vector.
+    pub(super) fn predict(&self, t1: f64) -> Vec<f64> {
+        let dt = self.dt();
+        let g = self.model.physics.gravity;
+        let mut f: Vec<_> = self
+            .bodies
+            .iter()
+            .map(|b| {
+                let mut fb = b.mass_matrix() * self.v0(b) * (2.0 / dt) + b.stress_load();
+                // body force, centroid reference (math note §2.4)
+                fb[0] += b.mass * g.x;
+                fb[1] += b.mass * g.y;
+                fb
+            })
+            .collect();
+        for (load, p) in self.model.loads.iter().zip(&self.load_points) {
+            let body: &Body = &self.bodies[load.body];
+            let force = load_force(load, t1);
+            f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
+                + body.shape_row(p.current, Vec2::y()) * force.y;
+        }
+        let mut df = vec![0.0; self.dofs.total()];
+        for (b, fb) in f.iter().enumerate() {
+            self.dofs.scatter_add(&mut df, b, fb);
+        }
+        self.flex.solve_in_place(&self.dofs, &mut df);
+        df
+    }
+}
+
+/// Point-load force at time t.
+fn load_force(load: &Load, t: f64) -> Vec2 {
+    load.force * load.factor(t)
+}

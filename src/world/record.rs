@@ -1,0 +1,137 @@
+//! Stage 6: what a step produced, as typed values the writers format.
+
+use crate::cluster::FactorError;
+use crate::contact::{ContactKey, ContactKind};
+use crate::geometry::Vec2;
+use std::fmt;
+
+/// Contact state as written to `contacts.csv`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactState {
+    Open,
+    Stick,
+    Slide,
+    /// Intact cemented joint (math note §4.5).
+    Bonded,
+}
+
+impl ContactState {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ContactState::Open => "open",
+            ContactState::Stick => "stick",
+            ContactState::Slide => "slide",
+            ContactState::Bonded => "bonded",
+        }
+    }
+}
+
+/// One contact's result for a step.
+#[derive(Debug, Clone)]
+pub struct ContactRecord {
+    pub key: ContactKey,
+    pub kind: ContactKind,
+    /// The body the normal points into (edge owner, particle of a particle-block contact).
+    pub body_a: usize,
+    pub body_b: usize,
+    pub point: Vec2,
+    pub normal: Vec2,
+    /// Compression-positive normal force p_n [N/m].
+    pub normal_force: f64,
+    /// Tangential force along τ = cw(n), acting on body A [N/m].
+    pub shear_force: f64,
+    /// Rolling-resistance couple on body A, ccw positive [N m/m]; `None` without a rolling row.
+    pub rolling_moment: Option<f64>,
+    /// Normal gap at the end of the step (linearized, solve 1) [m].
+    pub gap: f64,
+    pub state: ContactState,
+}
+
+/// Which VI solve of a step (math note §1.3, §10.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolveKind {
+    /// Solve 1, on the step-start linearization.
+    Geometry,
+    /// Solve 1 again after a mid-step refinement (math note §10.1).
+    GeometryRefined,
+    /// Solve 2 (velocity).
+    Velocity,
+}
+
+impl fmt::Display for SolveKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SolveKind::Geometry => "solve 1",
+            SolveKind::GeometryRefined => "solve 1, refined",
+            SolveKind::Velocity => "solve 2",
+        })
+    }
+}
+
+/// Numerical trouble worth a line in the run log.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Warning {
+    /// A VI solve stopped above its tolerance.
+    NotConverged { step: usize, solve: SolveKind, residual: f64, iterations: usize },
+    /// Two bodies started the step penetrating deeper than 5 % of the contact threshold.
+    Penetration { step: usize, body_a: String, body_b: String, depth: f64 },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::NotConverged { step, solve, residual, iterations } => write!(
+                f,
+                "step {step}: contact solver ({solve}) did not converge: residual {residual:.3e} after {iterations} iterations"
+            ),
+            Warning::Penetration { step, body_a, body_b, depth } => {
+                write!(f, "step {step}: bodies {body_a} and {body_b} penetrate by {depth:.3e} m")
+            }
+        }
+    }
+}
+
+/// Events of the physics worth a line in the run log.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// A cemented contact reached its tensile share and opened (math note §4.5).
+    JointBroke { step: usize, body_a: String, body_b: String, point: Vec2 },
+}
+
+impl fmt::Display for Event {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Event::JointBroke { step, body_a, body_b, point } => write!(
+                f,
+                "step {step}: cemented contact between {body_a} and {body_b} at ({}, {}) broke",
+                point.x, point.y
+            ),
+        }
+    }
+}
+
+/// What one step produced.
+#[derive(Debug, Clone)]
+pub struct StepRecord {
+    pub step: usize,
+    pub time: f64,
+    pub dt: f64,
+    pub contacts: Vec<ContactRecord>,
+    pub outer_iterations: usize,
+    pub inner_iterations: usize,
+    pub residual: f64,
+    pub converged: bool,
+    pub kinetic_energy: f64,
+    pub wall_seconds: f64,
+    pub warnings: Vec<Warning>,
+    pub events: Vec<Event>,
+}
+
+/// Numerical failure that stops a run.
+#[derive(Debug, thiserror::Error, miette::Diagnostic)]
+pub enum StepError {
+    #[error("step {step}: non-finite displacement (NaN or infinity) in bodies {bodies:?}")]
+    NonFinite { step: usize, bodies: Vec<String> },
+    #[error("step {step}: {source}")]
+    Singular { step: usize, source: FactorError },
+}

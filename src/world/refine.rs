@@ -1,0 +1,107 @@
+//! The refinement of persistent contacts on the mid-step configuration (math note §10.1).
+//!
+//! The gap of math note (3.1) is linearized at the step start, which is exact for flat
+//! contacts only: a disk sliding along a curved surface by v dt penetrates by about
+//! (v dt)²/(2ρ), and the normal force, acting along the start normal, does work on the
+//! chord. Both feed energy into the system (the disk in a ring, paper §7.5, climbs higher
+//! every swing). For each persistent (non-impacting) contact that ends the trial step closed
+//! or nearly so, the refinement takes the normal n and the body points from the
+//! configuration half-way through the trial increment d̄, and the offset so that the
+//! linearized gap equals the true gap of the end configuration. At the fixed point the
+//! contact force is orthogonal to the relative chord (it does no work, as the midpoint rule
+//! wants) and the true end-of-step gap is met exactly.
+
+use super::World;
+use super::detect::Contact;
+use super::rows::Linearization;
+use super::solve::Classified;
+use crate::body::Dofs;
+use crate::contact::{BodyShape, ContactGeom, ContactKey};
+use crate::geometry::Vec2;
+use std::collections::HashMap;
+
+impl World {
+    /// New linearizations from the trial increment `dbar` (a global DOF vector), and whether
+    /// any contact changed by more than 1e-9 d0 (in gap terms).
+    pub(super) fn refine(
+        &self,
+        contacts: &[Contact],
+        lin: &[Linearization],
+        dbar: &[f64],
+        state: &Classified,
+    ) -> (Vec<Linearization>, bool) {
+        let near = 0.1 * self.threshold;
+        let watched: Vec<usize> = (0..contacts.len())
+            .filter(|&k| {
+                let r = contacts[k].law.row;
+                !state.impacting_rows[r] && state.gaps[r] < near
+            })
+            .collect();
+        let full = |b: usize| self.dofs.gather(dbar, b);
+        let mut mid = HashMap::new();
+        let mut end = HashMap::new();
+        for &k in &watched {
+            for b in [contacts[k].geom.a, contacts[k].geom.b] {
+                mid.entry(b).or_insert_with(|| self.moved_shape(b, &(full(b) * 0.5)));
+                end.entry(b).or_insert_with(|| self.moved_shape(b, &full(b)));
+            }
+        }
+        let mut next = lin.to_vec();
+        let mut changed = false;
+        let mut found = Vec::new();
+        for k in watched {
+            let c = &contacts[k];
+            let (a, b) = (c.geom.a, c.geom.b);
+            let (Some(m), Some(e)) = (
+                self.same_contact(c.geom.key, &mid[&a], &mid[&b], a, b, &mut found),
+                self.same_contact(c.geom.key, &end[&a], &end[&b], a, b, &mut found),
+            ) else {
+                continue;
+            };
+            let (da, db) = (full(a), full(b));
+            let anchor = [m.point - translation(&(da * 0.5)), m.point - translation(&(db * 0.5))];
+            let linear: f64 = [(a, 1.0, &da), (b, -1.0, &db)]
+                .iter()
+                .zip(anchor)
+                .map(|(&(body, s, d), x)| s * self.bodies[body].shape_row(x, m.normal).dot(d))
+                .sum();
+            // the start gap as the solver sees it, plus what the linearization misses
+            let offset = c.start_gap + (e.g0 - c.geom.g0 - linear);
+            let reach = self.bodies[a].max_displacement(&da) + self.bodies[b].max_displacement(&db);
+            let change = (offset - lin[k].offset).abs() + (m.normal - lin[k].normal).norm() * reach;
+            changed |= change > 1e-9 * self.threshold;
+            next[k] = Linearization { normal: m.normal, anchor, offset };
+        }
+        (next, changed)
+    }
+
+    fn moved_shape(&self, b: usize, d: &Dofs) -> BodyShape {
+        let mut body = self.bodies[b].clone();
+        body.apply_increment(d);
+        body.shape()
+    }
+
+    /// The contact with `key` between bodies `a` and `b` in the given shapes, if any.
+    fn same_contact(
+        &self,
+        key: ContactKey,
+        sa: &BodyShape,
+        sb: &BodyShape,
+        a: usize,
+        b: usize,
+        found: &mut Vec<ContactGeom>,
+    ) -> Option<ContactGeom> {
+        found.clear();
+        if a < b {
+            crate::contact::narrow::pair_contacts(a, b, sa, sb, self.threshold, found);
+        } else {
+            crate::contact::narrow::pair_contacts(b, a, sb, sa, self.threshold, found);
+        }
+        found.iter().find(|g| g.key == key).cloned()
+    }
+}
+
+/// Translation (u0, v0) of the centroid under the increment `d`.
+fn translation(d: &Dofs) -> Vec2 {
+    Vec2::new(d[0], d[1])
+}

@@ -1,0 +1,96 @@
+//! Stage 3: the contact rows, the VI's only input (math note §3.1, §4.4, §10.1, §10.3).
+//!
+//! Each contact's gap is linearized as `offset + Σ_b s_b nᵀ T_b(anchor_b) d_b` (plus the
+//! tangent and rolling rows). On the first pass the anchors are the contact point, n the
+//! detected normal and offset = g0; the refinement of math note §10.1 makes new
+//! linearizations on the mid-step configuration, and so new rows. Rows are immutable once
+//! built.
+
+use super::World;
+use super::detect::Contact;
+use crate::body::Dofs;
+use crate::delassus;
+use crate::geometry::{Vec2, cw};
+use crate::jacobian::Jacobian;
+use sprs::CsMat;
+
+/// The linearization of one contact's gap.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Linearization {
+    pub normal: Vec2,
+    /// Where the gap direction acts on body A and on body B.
+    pub anchor: [Vec2; 2],
+    pub offset: f64,
+}
+
+impl Linearization {
+    /// The step-start linearization: contact point, detected normal, offset = g0 as the
+    /// solver sees it.
+    pub fn initial(c: &Contact) -> Linearization {
+        Linearization { normal: c.geom.normal, anchor: [c.geom.point; 2], offset: c.start_gap }
+    }
+}
+
+/// The VI's input: B, q = offsets + B d^f, W = B K̃⁻¹ Bᵀ and the per-contact row blocks.
+pub(super) struct Rows {
+    pub lin: Vec<Linearization>,
+    pub jac: Jacobian,
+    pub q: Vec<f64>,
+    pub w: CsMat<f64>,
+    /// Contact k owns rows blocks[k]..blocks[k + 1].
+    pub blocks: Vec<usize>,
+}
+
+impl World {
+    /// Builds the rows of the contacts for the linearizations `lin`. Contacts for which
+    /// `rigid(k)` holds act on the rigid-body DOFs only: their strain columns are zero (math
+    /// note §10.3).
+    pub(super) fn rows(
+        &self,
+        contacts: &[Contact],
+        lin: Vec<Linearization>,
+        df: &[f64],
+        rigid: impl Fn(usize) -> bool,
+    ) -> Rows {
+        let mut blocks: Vec<usize> = contacts.iter().map(|c| c.law.row).collect();
+        let total = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
+        blocks.push(total);
+        let mut jac = Jacobian::default();
+        jac.reset(total);
+        for (k, (c, l)) in contacts.iter().zip(&lin).enumerate() {
+            self.push_contact(&mut jac, c, l, rigid(k));
+        }
+        let mut q = Vec::new();
+        jac.apply(df, &mut q);
+        for (c, l) in contacts.iter().zip(&lin) {
+            q[c.law.row] += l.offset;
+        }
+        let w = delassus::assemble(&jac, &self.flex, &self.dofs);
+        Rows { lin, jac, q, w, blocks }
+    }
+
+    /// Rows normal, tangent and rolling of one contact on its two bodies (math note §3.1,
+    /// §4.4: the rolling couple acts on θ alone, on a block too).
+    fn push_contact(&self, jac: &mut Jacobian, c: &Contact, l: &Linearization, rigid: bool) {
+        let (n, tau, r) = (l.normal, cw(l.normal), c.law.row);
+        let keep = |mut row: Dofs| {
+            if rigid {
+                row.rows_mut(3, 3).fill(0.0);
+            }
+            row
+        };
+        for ((body, sign), x) in [(c.geom.a, 1.0), (c.geom.b, -1.0)].into_iter().zip(l.anchor) {
+            let b = &self.bodies[body];
+            let Some(cluster) = self.dofs.cluster_of(body) else { continue };
+            let range = self.dofs.range(body);
+            let mut push = |row: usize, vals: Dofs| jac.push(row, cluster, range.start, range.len(), vals);
+            push(r, keep(b.shape_row(x, n) * sign));
+            push(r + 1, keep(b.shape_row(x, tau) * sign));
+            if c.law.rolling > 0.0 {
+                let mut couple = Dofs::zeros();
+                couple[2] = sign;
+                push(r + 2, couple);
+            }
+        }
+    }
+}

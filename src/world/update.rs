@@ -1,0 +1,160 @@
+//! Stage 5 (update the bodies, breakage, contact memory) and the contact part of stage 6.
+
+use super::detect::Contact;
+use super::solve::Solved;
+use super::{ContactRecord, ContactState, Event, StepError, Warning, World};
+use crate::contact::set::Memory;
+
+/// The displacements of a step, as global DOF vectors (math note §1.3 c, d).
+pub(super) struct Motion {
+    /// d̄: geometry and stress (impacting contacts' share doubled).
+    pub dbar: Vec<f64>,
+    /// d_vel = d^f + K̃⁻¹ Bᵀ p2: velocity.
+    pub dvel: Vec<f64>,
+}
+
+impl World {
+    pub(super) fn motion(&self, df: &[f64], s: &Solved) -> Motion {
+        let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.state.impacting_rows);
+        let dp2 = self.response(s.rows2.as_ref().unwrap_or(&s.rows), &s.z2, |_| true);
+        let dvel = (0..df.len()).map(|i| df[i] + dp2[i]).collect();
+        Motion { dbar, dvel }
+    }
+
+    /// A NaN or infinity anywhere stops the run, naming the bodies.
+    pub(super) fn check_finite(&self, m: &Motion, step: usize) -> Result<(), StepError> {
+        let bad: Vec<String> = (0..self.bodies.len())
+            .filter(|&b| {
+                let r = self.dofs.range(b);
+                !m.dbar[r.clone()].iter().chain(&m.dvel[r]).all(|x| x.is_finite())
+            })
+            .map(|b| self.bodies[b].name.clone())
+            .collect();
+        if bad.is_empty() { Ok(()) } else { Err(StepError::NonFinite { step, bodies: bad }) }
+    }
+
+    /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
+    /// the next step starts from k v1 (see [`Self::v0`]).
+    pub(super) fn update(&mut self, m: &Motion, dt: f64) {
+        let dbar: Vec<_> = (0..self.bodies.len()).map(|b| self.dofs.gather(&m.dbar, b)).collect();
+        for p in self.load_points.iter_mut().chain(self.monitors.iter_mut()) {
+            p.current = self.bodies[p.body].moved_point(p.current, &dbar[p.body]);
+        }
+        let v0: Vec<_> = self.bodies.iter().map(|b| self.v0(b)).collect();
+        for (b, body) in self.bodies.iter_mut().enumerate() {
+            body.apply_increment(&dbar[b]);
+            if !body.fixed {
+                body.velocity = self.dofs.gather(&m.dvel, b) * (2.0 / dt) - v0[b];
+            }
+        }
+    }
+
+    /// Bonded contacts that reached their tensile share and opened in solve 1: broken for
+    /// good, together with their joint partner (math note §4.5, hypothesis iv).
+    pub(super) fn breakage(&self, s: &Solved) -> Vec<bool> {
+        let laws = &s.laws;
+        let rule = self.bounds(laws);
+        let opened = 1e-12 * self.threshold;
+        let mut broken: Vec<bool> = (0..laws.len())
+            .map(|k| {
+                let (law, r) = (&laws[k], laws[k].row);
+                law.bonded
+                    && s.z1[r] <= -rule.tensile_bound(k, &s.z1) * (1.0 - 1e-9)
+                    && s.state.gaps[r] > opened
+            })
+            .collect();
+        for k in 0..laws.len() {
+            if let Some(l) = laws[k].partner.filter(|_| broken[k]) {
+                broken[l] = true;
+            }
+        }
+        broken
+    }
+
+    pub(super) fn breakage_events(
+        &mut self,
+        contacts: &[Contact],
+        broken: &[bool],
+        step: usize,
+    ) -> Vec<Event> {
+        let mut events = Vec::new();
+        for (c, _) in contacts.iter().zip(broken).filter(|(_, b)| **b) {
+            self.broken.insert(c.geom.key);
+            events.push(Event::JointBroke {
+                step,
+                body_a: self.bodies[c.geom.a].name.clone(),
+                body_b: self.bodies[c.geom.b].name.clone(),
+                point: c.geom.point,
+            });
+        }
+        events
+    }
+
+    pub(super) fn contact_records(
+        &self,
+        contacts: &[Contact],
+        s: &Solved,
+        broken: &[bool],
+    ) -> Vec<ContactRecord> {
+        let rule = self.bounds(&s.laws);
+        contacts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let r = c.law.row;
+                let (pn, pt) = (s.z2[r], s.z2[r + 1]);
+                let state = if c.law.bonded && !broken[k] {
+                    ContactState::Bonded
+                } else if pn <= 0.0 {
+                    ContactState::Open
+                } else if pt.abs() >= rule.tangential_bound(k, &s.z2) * (1.0 - 1e-9) {
+                    ContactState::Slide
+                } else {
+                    ContactState::Stick
+                };
+                ContactRecord {
+                    key: c.geom.key,
+                    kind: c.geom.kind,
+                    body_a: c.geom.a,
+                    body_b: c.geom.b,
+                    point: c.geom.point,
+                    normal: c.geom.normal,
+                    normal_force: pn,
+                    shear_force: pt,
+                    rolling_moment: (c.law.rolling > 0.0).then(|| s.z2[r + 2]),
+                    gap: s.state.gaps[r],
+                    state,
+                }
+            })
+            .collect()
+    }
+
+    /// Warm start, "was closed" and bond memory for the next step.
+    pub(super) fn remember(&mut self, contacts: &[Contact], s: &Solved, broken: &[bool]) {
+        self.memory = contacts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let r = c.law.row;
+                let mut force = [0.0; 3];
+                force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
+                let bonded = c.law.bonded && !broken[k];
+                (c.geom.key, Memory { force, closed: s.state.closed[k] && !broken[k], bonded })
+            })
+            .collect();
+    }
+
+    /// Pairs that started this step penetrating deeper than 5 % of the contact threshold.
+    pub(super) fn penetration_warnings(&self, contacts: &[Contact], step: usize) -> Vec<Warning> {
+        contacts
+            .iter()
+            .filter(|c| c.geom.g0 < -0.05 * self.threshold)
+            .map(|c| Warning::Penetration {
+                step,
+                body_a: self.bodies[c.geom.a].name.clone(),
+                body_b: self.bodies[c.geom.b].name.clone(),
+                depth: -c.geom.g0,
+            })
+            .collect()
+    }
+}
