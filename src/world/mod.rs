@@ -36,7 +36,7 @@ mod rows;
 mod solve;
 mod update;
 
-pub use record::{ContactRecord, ContactState, Event, SolveKind, StepError, StepRecord, Warning};
+pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
 
 /// Library-level switches that are not part of the scene format.
 #[derive(Debug, Clone, Copy)]
@@ -138,6 +138,8 @@ impl World {
     /// Advances one step of length dt: the six stages, top to bottom.
     pub fn step(&mut self) -> Result<StepRecord, StepError> {
         let started = Instant::now();
+        let mut clock = Clock(started);
+        let mut stages = StageTimes::default();
         let dt = self.dt();
         let step = self.step_index + 1;
         // time as step × dt, not accumulated, so that t is exact at step boundaries
@@ -146,10 +148,14 @@ impl World {
             .refresh(&self.dofs, &self.bodies, &[], dt)
             .map_err(|source| StepError::Singular { step, source })?;
         let df = self.predict(t1);
+        stages.predict = clock.lap();
         let contacts = self.detect(&df);
+        stages.detect = clock.lap();
         let mut pipeline = std::mem::take(&mut self.pipeline);
         let solved = self.solve(&contacts, &df, &mut pipeline);
         self.pipeline = pipeline;
+        (stages.rows, stages.vi) = (solved.times.rows, solved.times.vi);
+        stages.refine = clock.lap() - stages.rows - stages.vi;
         let motion = self.motion(&df, &solved);
         self.check_finite(&motion, step)?;
         self.allowance = self.gap_accuracy(&solved);
@@ -162,6 +168,7 @@ impl World {
         let mut warnings = solved.warnings;
         warnings.extend(self.penetration_warnings(&contacts, step));
         let events = self.breakage_events(&contacts, &broken, step);
+        stages.update = clock.lap();
         Ok(StepRecord {
             step,
             time: t1,
@@ -173,6 +180,7 @@ impl World {
             converged: solved.report.converged,
             kinetic_energy: self.bodies.iter().map(Body::kinetic_energy).sum(),
             wall_seconds: started.elapsed().as_secs_f64(),
+            stages,
             warnings,
             events,
         })
@@ -199,6 +207,18 @@ impl World {
     /// The QVI bound rule over the contacts' laws (contact/law.rs).
     fn bounds<'a>(&self, laws: &'a [crate::contact::law::Law]) -> ContactBounds<'a> {
         ContactBounds { laws, share_cohesion: self.settings.share_cohesion }
+    }
+}
+
+/// Stage timer: seconds since the last lap.
+struct Clock(Instant);
+
+impl Clock {
+    fn lap(&mut self) -> f64 {
+        let now = Instant::now();
+        let t = (now - self.0).as_secs_f64();
+        self.0 = now;
+        t
     }
 }
 

@@ -110,6 +110,23 @@ impl fmt::Display for Event {
     }
 }
 
+/// Wall time of the stages of one step [s] (measurement only; never used by the physics).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct StageTimes {
+    /// Factorization of the step stiffness and the prediction d^f (stages 0-1).
+    pub predict: f64,
+    /// Broad and narrow phase (stage 2).
+    pub detect: f64,
+    /// Contact rows and W, every pass (stage 3).
+    pub rows: f64,
+    /// VI solves (stage 4).
+    pub vi: f64,
+    /// Mid-step refinements and the rest of stage 4 (classification, increments).
+    pub refine: f64,
+    /// Update, breakage, memory and records (stages 5-6).
+    pub update: f64,
+}
+
 /// What one step produced.
 #[derive(Debug, Clone)]
 pub struct StepRecord {
@@ -123,6 +140,7 @@ pub struct StepRecord {
     pub converged: bool,
     pub kinetic_energy: f64,
     pub wall_seconds: f64,
+    pub stages: StageTimes,
     pub warnings: Vec<Warning>,
     pub events: Vec<Event>,
 }

@@ -7,6 +7,7 @@ use super::rows::{Linearization, Rows};
 use super::{Pipeline, SolveKind, Warning, World};
 use crate::contact::law::Law;
 use crate::vi::{self, Problem};
+use std::time::Instant;
 
 /// Refinements of solve 1 on the mid-step configuration (math note §10.1); the fixed point is
 /// reached in two or three.
@@ -39,6 +40,15 @@ pub(super) struct Solved {
     pub warnings: Vec<Warning>,
     /// Largest diagonal entry of W (gap per unit force).
     pub w_diag_max: f64,
+    /// Time spent building rows and in the VI.
+    pub times: SolveTimes,
+}
+
+/// Wall time of the parts of stage 4 [s].
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct SolveTimes {
+    pub rows: f64,
+    pub vi: f64,
 }
 
 /// Runs the VI solves of one step and accumulates their report and warnings.
@@ -48,10 +58,12 @@ struct Runner<'a> {
     report: vi::Report,
     warnings: Vec<Warning>,
     pipeline: &'a mut Pipeline,
+    times: SolveTimes,
 }
 
 impl Runner<'_> {
     fn run(&mut self, world: &World, laws: &[Law], rows: &Rows, q: &[f64], z: &mut [f64], solve: SolveKind) {
+        let started = Instant::now();
         let mut rule = world.bounds(laws);
         let r = vi::solve_with(&mut self.pipeline.vi, &Problem { w: &rows.w, q }, &mut rule, z, &self.opts);
         if !r.converged {
@@ -62,6 +74,15 @@ impl Runner<'_> {
         self.report.inner_iterations += r.inner_iterations;
         self.report.residual = self.report.residual.max(r.residual);
         self.report.converged &= r.converged;
+        self.times.vi += started.elapsed().as_secs_f64();
+    }
+
+    /// Builds rows, timing it.
+    fn rows<T>(&mut self, build: impl FnOnce() -> T) -> T {
+        let started = Instant::now();
+        let rows = build();
+        self.times.rows += started.elapsed().as_secs_f64();
+        rows
     }
 }
 
@@ -78,13 +99,20 @@ impl World {
         };
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
         let report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
-        let mut runner = Runner { opts, step: self.step_index + 1, report, warnings: Vec::new(), pipeline };
+        let mut runner = Runner {
+            opts,
+            step: self.step_index + 1,
+            report,
+            warnings: Vec::new(),
+            pipeline,
+            times: SolveTimes::default(),
+        };
         let mut z1 = warm_start(contacts);
         let mut lin: Vec<Linearization> = contacts.iter().map(Linearization::initial).collect();
         let mut refinements = 0;
         // the rows of the last solve 1, and the linearization a further refinement gave
         let (rows, state, last) = loop {
-            let rows = self.rows(contacts, lin, df, |_| false);
+            let rows = runner.rows(|| self.rows(contacts, lin, df, |_| false));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
             let state = self.classify(contacts, &rows, &z1);
@@ -100,7 +128,7 @@ impl World {
             lin = next;
             refinements += 1;
         };
-        let rows2 = self.impact_rows(contacts, last, &state, df);
+        let rows2 = runner.rows(|| self.impact_rows(contacts, last, &state, df));
         let mut z2 = z1.clone();
         if rows2.is_some() || self.needs_velocity_solve(contacts, &state) {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
@@ -108,8 +136,8 @@ impl World {
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity);
         }
         let w_diag_max = rows.w.diag_iter().flatten().fold(0.0f64, |m, x| m.max(*x));
-        let (report, warnings) = (runner.report, runner.warnings);
-        Solved { laws, rows, rows2, z1, z2, state, report, warnings, w_diag_max }
+        let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
+        Solved { laws, rows, rows2, z1, z2, state, report, warnings, w_diag_max, times }
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact
