@@ -5,6 +5,8 @@ use pbdda::model::Model;
 use pbdda::world::{ContactRecord, StepRecord, World};
 use std::path::Path;
 
+pub mod disk_7_7;
+
 /// Loads `examples/NAME` through the scene reader, as a user's run would.
 pub fn example(name: &str) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
