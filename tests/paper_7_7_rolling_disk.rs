@@ -16,7 +16,7 @@
 //! error is the solver's, a force error of about tol |z| = 1e-12 · 3e4 = 3e-8 N, which moves the
 //! disk by 3e-8 / m · t²/2 ~ 1e-10 m in 5 s; 1e-6 leaves room for rounding over 500 steps and
 //! still fails on a wrong regime (case I and III differ by 0.7 m) or a one-step load lag
-//! (a dt t = 1e-3 m).
+//! (a dt t ~ 1e-2 m).
 
 mod common;
 use common::disk_7_7::*;
