@@ -37,7 +37,7 @@ pub fn run(world: &mut World, steps: usize, mut check: impl FnMut(&World, &StepR
     }
 }
 
-/// The triangle wave of design note §7.3: position of a point moving at unit rate `s` in
+/// The triangle wave of math note §7.3: position of a point moving at unit rate `s` in
 /// [-a, a] with elastic reflections.
 pub fn fold(s: f64, a: f64) -> f64 {
     let sp = (s + a).rem_euclid(4.0 * a);
