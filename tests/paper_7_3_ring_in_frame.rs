@@ -19,6 +19,7 @@
 //!   (6.8 + 13.6 k = 3.4 + 6.8 j has no integer solution), so 23 impacts, each counted as a
 //!   reversal of vx or vy, and each an impact that loads its contact in exactly one step
 //!   (math note §1.3: the impacting step reflects the velocity, the next one separates).
+//!
 //! Case 2 widens the frame to 20.07 (a = 17.07) so that the impacts fall mid-step (math note
 //! §1.3: the g0-in-the-gap scheme with doubled impact share stays exact there too): 2.5 t =
 //! 256.25 = 17.07 + 7·34.14 + 0.2, so again 8 side-wall hits (the last at 102.42 s, 1.6 steps
