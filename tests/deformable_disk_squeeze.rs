@@ -8,8 +8,8 @@
 //!          = 2 pi E (R_E² - R_I²)/((1 + nu)(1 - 2 nu))     (plane strain),
 //! so eps = -R_E m g / K_44, and the isotropic stress is sigma_0 = -R_E m g/(2 A)
 //! (from f_4 = -2 A sigma_0), i.e. -rho g R_E/2 for both particles (m = rho A). The paper's
-//! A.4 coefficient (half of K_44) would give twice this strain. Tolerance 1e-6 relative (the
-//! issue's): E = 3e11 makes eps ~ 1e-8, so the radius change (which enters R_E and A) is far
+//! A.4 coefficient (half of K_44) would give twice this strain. Tolerance 1e-6 relative, above the effect of
+//! the deformation on the closed form: E = 3e11 makes eps ~ 1e-8, so the radius change (which enters R_E and A) is far
 //! below it. The relaxation contracts the error by about (2 J/dt²)/K_44 ~ 1e-5 per step at
 //! dt = 0.01; 10 steps are run.
 

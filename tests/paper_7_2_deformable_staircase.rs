@@ -1,10 +1,10 @@
 //! Paper §7.2, Table 2, with deformable blocks (the paper's E = 0.10e15 Pa, nu = 0.45): four
 //! 20 x 10 blocks in a staircase with 5 m offsets on a fixed floor, 6-DOF constant-strain DDA
 //! blocks. The normal forces of the stack are statically determinate whatever the stiffness
-//! (design note §7.2): each interface's shear pair is self-equilibrated (top-down horizontal
+//! (math note §7.2): each interface's shear pair is self-equilibrated (top-down horizontal
 //! balance) and collinear, so it adds no moment. With W = 2000 * 200 * 10 = 4e6 N the floor
-//! reactions are F1 = W/2 at x = 0 and F2 = 7W/2 at x = 20. Tolerance 1e-6 relative at step 100
-//! (the issue's): the strains are ~ 7W/(20 m E) ~ 7e-9, so the statics of the deformed
+//! reactions are F1 = W/2 at x = 0 and F2 = 7W/2 at x = 20. Tolerance 1e-6 relative at step 100,
+//! above the effect of the deformation on the statics: the strains are ~ 7W/(20 m E) ~ 7e-9, so the statics of the deformed
 //! configuration differ from those of the initial one by far less; the solver tolerance of the
 //! example is 1e-12. The example runs as DDA's static analysis (velocity_carry = 0), whose
 //! fixed point is these statics. The dynamic run (velocity_carry = 1) is kept as an ignored

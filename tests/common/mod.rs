@@ -5,6 +5,8 @@ use pbdda::model::Model;
 use pbdda::world::{ContactRecord, StepRecord, World};
 use std::path::Path;
 
+pub mod disk_7_7;
+
 /// Loads `examples/NAME` through the scene reader, as a user's run would.
 pub fn example(name: &str) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
@@ -35,9 +37,51 @@ pub fn run(world: &mut World, steps: usize, mut check: impl FnMut(&World, &StepR
     }
 }
 
-/// The triangle wave of design note §7.3: position of a point moving at unit rate `s` in
+/// The triangle wave of math note §7.3: position of a point moving at unit rate `s` in
 /// [-a, a] with elastic reflections.
 pub fn fold(s: f64, a: f64) -> f64 {
     let sp = (s + a).rem_euclid(4.0 * a);
     if sp < 2.0 * a { sp - a } else { 3.0 * a - sp }
+}
+
+/// Number of reflections of the triangle wave `fold(v t, a)` (see [`fold`]) in the run time
+/// `t_end`: the point starts at 0 and meets a wall (±a) at v t = a, 3a, 5a, ..., so the
+/// count is the number of k >= 0 with (2k + 1) a < v t_end. Panics when a reflection falls
+/// within `dt` of the end of the run, where the count would hinge on rounding.
+pub fn reflections(v: f64, a: f64, t_end: f64, dt: f64) -> usize {
+    let s = v * t_end;
+    if s < a {
+        assert!(a - s > v * dt, "a reflection at the very end of the run");
+        return 0;
+    }
+    let since = (s - a).rem_euclid(2.0 * a);
+    assert!(
+        since > v * dt && 2.0 * a - since > v * dt,
+        "a reflection within one step of the end of the run (v = {v}, a = {a}, t = {t_end})"
+    );
+    ((s - a) / (2.0 * a)).floor() as usize + 1
+}
+
+/// Counts the sign reversals of the velocity components (vx, vy) of one body from step to
+/// step: in a frictionless frame each reversal of vx is a hit on a side wall, of vy on the
+/// floor or roof.
+#[derive(Debug, Default)]
+pub struct WallHits {
+    last: Option<(f64, f64)>,
+    pub x: usize,
+    pub y: usize,
+}
+
+impl WallHits {
+    pub fn starting_at(vx: f64, vy: f64) -> Self {
+        WallHits { last: Some((vx, vy)), x: 0, y: 0 }
+    }
+
+    pub fn observe(&mut self, vx: f64, vy: f64) {
+        if let Some((px, py)) = self.last {
+            self.x += usize::from(px * vx < 0.0);
+            self.y += usize::from(py * vy < 0.0);
+        }
+        self.last = Some((vx, vy));
+    }
 }
