@@ -226,3 +226,24 @@ fn unknown_kind_and_wrong_point_count() {
     fails(&scene("kind = \"rope\"\npoints = [[1.0, 0.5], [3.5, 0.5]]\n"), "30 connector[0].kind: \"rope\"");
     fails(&scene(&format!("{BOLT}points = [[1.0, 0.5]]\n")), "33 connector[0].points: 2 anchors (got 1)");
 }
+
+// ------------------------------------------------------------------ shipped examples
+
+/// The connector examples are accepted, with the connectors their files list (counted in the
+/// scene texts: 10 springs, 5 bolts, 10 beams, one per kind in the small scenes).
+#[test]
+fn connector_examples_are_accepted() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    for (file, kind, count) in [
+        ("7_10_particle_chain.toml", "spring", 10),
+        ("bolted_slope.toml", "bolt", 5),
+        ("bonded_beam.toml", "beam", 10),
+        ("connector_spring.toml", "spring", 1),
+        ("connector_bolt.toml", "bolt", 1),
+        ("connector_beam.toml", "beam", 1),
+    ] {
+        let m = pbdda::scene::load(&dir.join(file)).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(m.connectors.len(), count, "{file}");
+        assert!(m.connectors.iter().all(|c| c.kind.as_str() == kind), "{file}");
+    }
+}
