@@ -298,7 +298,7 @@ fn row(body: &Body, x: Vec2, l: Vec2) -> DMatrix<f64> {
 /// ccw rotations (math note §6; the printed eq. 88 has every A3 sign flipped, typo 12):
 /// `b = 12 EI k_Be/(G A l²)` (eq. 89), `A1 = EA/l`, `A2 = 12EI/((1+b)l³)`, `A3 = 6EI/((1+b)l²)`,
 /// `A4 = (4+b)EI/((1+b)l)`, `A5 = (2−b)EI/((1+b)l)`, `(c, s)` the unit axis from anchor 1 to 2.
-pub fn beam_matrix(kind: &ConnectorKind, l: f64, axis: Vec2) -> Matrix6<f64> {
+fn beam_matrix(kind: &ConnectorKind, l: f64, axis: Vec2) -> Matrix6<f64> {
     let ConnectorKind::Beam { young: e, area, inertia: i, shear_modulus: g, shear_factor } = *kind else {
         return Matrix6::zeros();
     };
