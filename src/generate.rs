@@ -91,6 +91,7 @@ impl DiskPile {
             }],
             bodies,
             loads: vec![],
+            connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1 },
         }

@@ -21,6 +21,7 @@
 pub mod body;
 pub mod cli;
 pub mod cluster;
+pub mod connector;
 pub mod contact;
 pub mod delassus;
 pub mod dofs;

@@ -17,6 +17,8 @@ pub struct Model {
     pub interfaces: Vec<Interface>,
     pub bodies: Vec<BodySpec>,
     pub loads: Vec<Load>,
+    /// Bolts, springs and beams joining pairs of bodies (math note §6).
+    pub connectors: Vec<ConnectorSpec>,
     pub monitors: Vec<Monitor>,
     pub output: OutputSettings,
 }
@@ -114,6 +116,42 @@ pub enum Shape {
     },
 }
 
+impl Shape {
+    /// Whether `p` lies in the shape, the boundary included (within 1e-9 of the shape's size, so
+    /// that an anchor typed on an edge or a rim counts as inside). Rings are annuli: the hole is
+    /// outside.
+    pub fn contains(&self, p: Vec2) -> bool {
+        match self {
+            Shape::Disk { center, radius } => (p - center).norm() <= radius * (1.0 + 1e-9),
+            Shape::Ring { center, outer, inner } => {
+                let r = (p - center).norm();
+                r <= outer * (1.0 + 1e-9) && r >= inner * (1.0 - 1e-9)
+            }
+            Shape::Polygon { vertices } => polygon_contains(vertices, p),
+        }
+    }
+}
+
+/// Point in a simple polygon (either orientation), boundary included: on an edge within 1e-9 of
+/// the polygon's size, else the crossing-number rule.
+fn polygon_contains(v: &[Vec2], p: Vec2) -> bool {
+    let n = v.len();
+    let size = (0..n).map(|i| (v[i] - v[0]).norm()).fold(0.0, f64::max);
+    let edges = || (0..n).map(|i| (v[i], v[(i + 1) % n]));
+    let on_edge = |(a, b): (Vec2, Vec2)| {
+        let ab = b - a;
+        let t = ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
+        (a + ab * t - p).norm() <= 1e-9 * size
+    };
+    if edges().any(on_edge) {
+        return true;
+    }
+    let crosses = |(a, b): &(Vec2, Vec2)| {
+        (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y)
+    };
+    edges().filter(crosses).count() % 2 == 1
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BodyModel {
     Rigid,
@@ -163,6 +201,64 @@ impl Load {
             }
         }
     }
+}
+
+/// What a connector is, with its constants (paper §5; math note §6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ConnectorKind {
+    /// Axial spring `k l lᵀ` of finite length; isotropic `k I` at zero length (typo 16).
+    Spring {
+        /// k [N/m].
+        stiffness: f64,
+    },
+    /// Link EA/l along the anchors' line (paper eqs. 75-84).
+    Bolt {
+        /// E [Pa].
+        young: f64,
+        /// A [m²] per unit thickness.
+        area: f64,
+    },
+    /// 2-node Timoshenko beam, corrected (math note §6, typos 12-15).
+    Beam {
+        /// E [Pa].
+        young: f64,
+        /// A [m²] per unit thickness.
+        area: f64,
+        /// Second moment of area I [m⁴] (typo 13).
+        inertia: f64,
+        /// G [Pa].
+        shear_modulus: f64,
+        /// k_Be = 1/κ of eq. 89 (1.2 rectangle, 10/9 circle); 0 = Euler-Bernoulli.
+        shear_factor: f64,
+    },
+}
+
+impl ConnectorKind {
+    /// The scene-file word: "spring", "bolt" or "beam" (also the `kind` column of connectors.csv).
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            ConnectorKind::Spring { .. } => "spring",
+            ConnectorKind::Bolt { .. } => "bolt",
+            ConnectorKind::Beam { .. } => "beam",
+        }
+    }
+}
+
+/// A validated `[[connector]]`: two anchors, each held by a body (resolved from `bodies` or from
+/// the shape that contains it). The bodies differ and at most one of them is fixed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConnectorSpec {
+    /// Unique; `connector-N` (N from 1 in file order) when the scene gives none.
+    pub name: String,
+    pub kind: ConnectorKind,
+    /// Indices into `Model::bodies` of the bodies holding anchor 1 and anchor 2.
+    pub bodies: [usize; 2],
+    /// The anchors in the initial configuration (material points of their bodies).
+    pub points: [Vec2; 2],
+    /// Axial tension at t = 0 [N] (bolt, finite spring); 0 when not given.
+    pub pretension: f64,
+    /// Axial tension beyond which the connector breaks for good [N]; `None`: never.
+    pub strength: Option<f64>,
 }
 
 #[derive(Debug, Clone)]

@@ -660,12 +660,6 @@ fn deformable_body_with_initial_stress_parses() {
     fails(&bad, "17 body[0].model");
 }
 
-#[test]
-fn connector_is_not_supported_yet() {
-    let source = append("[[connector]]\nkind = \"spring\"\nbodies = [\"d1\", \"d1\"]\n");
-    fails(&source, "15 connector[0]: [[connector]] is not supported yet");
-}
-
 // ------------------------------------------------------------------ loads and monitors
 
 #[test]

@@ -15,10 +15,10 @@ use crate::model::{
     Plane, Shape, SolverSettings, TimeSettings,
 };
 
-type Check<T> = Result<T, Problem>;
+pub(super) type Check<T> = Result<T, Problem>;
 
 /// Name -> index into the list it names (materials, bodies).
-type Names<'a> = HashMap<&'a str, usize>;
+pub(super) type Names<'a> = HashMap<&'a str, usize>;
 
 /// Validates the whole scene, in the contract's table order.
 pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
@@ -30,9 +30,7 @@ pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
     let interfaces = interfaces(&raw.interface, &material_names)?;
     let (bodies, body_names) = bodies(&raw.body, &material_names, &materials)?;
     let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
-    if let Some(c) = &raw.connector {
-        return fail(c.span(), "[[connector]] is not supported yet");
-    }
+    let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
     let output = output(&raw.output)?;
     Ok(Model {
@@ -45,6 +43,7 @@ pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
         interfaces,
         bodies,
         loads,
+        connectors,
         monitors,
         output,
     })
@@ -52,12 +51,12 @@ pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
 
 // ---------------------------------------------------------------- numbers
 
-fn fail<T>(span: Range<usize>, message: impl Into<String>) -> Check<T> {
+pub(super) fn fail<T>(span: Range<usize>, message: impl Into<String>) -> Check<T> {
     Err(Problem::new(span, message))
 }
 
 /// The value of `v` if it is finite and passes `test`; else "`key` must `requirement`".
-fn real(v: &Spanned<f64>, key: &str, requirement: &str, test: impl Fn(f64) -> bool) -> Check<f64> {
+pub(super) fn real(v: &Spanned<f64>, key: &str, requirement: &str, test: impl Fn(f64) -> bool) -> Check<f64> {
     let x = *v.get_ref();
     if !x.is_finite() {
         return fail(v.span(), format!("{key} must be a finite number (got {x})"));
@@ -72,16 +71,16 @@ fn finite(v: &Spanned<f64>, key: &str) -> Check<f64> {
     real(v, key, "", |_| true)
 }
 
-fn positive(v: &Spanned<f64>, key: &str) -> Check<f64> {
+pub(super) fn positive(v: &Spanned<f64>, key: &str) -> Check<f64> {
     real(v, key, "be positive", |x| x > 0.0)
 }
 
-fn non_negative(v: &Spanned<f64>, key: &str) -> Check<f64> {
+pub(super) fn non_negative(v: &Spanned<f64>, key: &str) -> Check<f64> {
     real(v, key, "not be negative", |x| x >= 0.0)
 }
 
 /// `rule` applied to an optional value.
-fn optional<T, O>(
+pub(super) fn optional<T, O>(
     v: &Option<Spanned<T>>,
     key: &str,
     rule: impl Fn(&Spanned<T>, &str) -> Check<O>,
@@ -90,7 +89,7 @@ fn optional<T, O>(
 }
 
 /// `rule` applied to an optional value; `default` when it is absent.
-fn or_default<T, O>(
+pub(super) fn or_default<T, O>(
     v: &Option<Spanned<T>>,
     key: &str,
     rule: impl Fn(&Spanned<T>, &str) -> Check<O>,
@@ -109,7 +108,7 @@ fn count(v: &Spanned<i64>, key: &str) -> Check<usize> {
 }
 
 /// Exactly `N` finite numbers; `what` names them in the message (`point`, `vertices[3]`).
-fn numbers<const N: usize>(values: &[f64], span: Range<usize>, what: &str) -> Check<[f64; N]> {
+pub(super) fn numbers<const N: usize>(values: &[f64], span: Range<usize>, what: &str) -> Check<[f64; N]> {
     let Ok(array) = <[f64; N]>::try_from(values) else {
         let n = values.len();
         return fail(span, format!("{what} must have {N} numbers (got {n})"));
@@ -120,7 +119,7 @@ fn numbers<const N: usize>(values: &[f64], span: Range<usize>, what: &str) -> Ch
     }
 }
 
-fn vec2(v: &Spanned<Vec<f64>>, key: &str) -> Check<Vec2> {
+pub(super) fn vec2(v: &Spanned<Vec<f64>>, key: &str) -> Check<Vec2> {
     let [x, y] = numbers(v.get_ref(), v.span(), key)?;
     Ok(Vec2::new(x, y))
 }
@@ -132,7 +131,7 @@ fn pairs(v: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<Vec2>> {
 }
 
 /// One of the listed strings.
-fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, T)]) -> Check<T> {
+pub(super) fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, T)]) -> Check<T> {
     let given = v.get_ref().as_str();
     if let Some(&(_, t)) = options.iter().find(|(s, _)| *s == given) {
         return Ok(t);
@@ -165,7 +164,7 @@ fn unique_names<'a>(names: impl Iterator<Item = &'a Spanned<String>>, what: &str
     Ok(map)
 }
 
-fn resolve(names: &Names, name: &Spanned<String>, what: &str) -> Check<usize> {
+pub(super) fn resolve(names: &Names, name: &Spanned<String>, what: &str) -> Check<usize> {
     let n = name.get_ref();
     let message = || format!("unknown {what} \"{n}\"");
     names.get(n.as_str()).copied().ok_or_else(|| Problem::new(name.span(), message()))

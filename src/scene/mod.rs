@@ -10,6 +10,7 @@
 //! [`SceneError`] naming file, line, column and key.
 
 mod check;
+mod connectors;
 mod raw;
 
 use std::cmp::Reverse;

@@ -28,8 +28,8 @@ pub(super) struct Scene {
     pub body: Spanned<Vec<Spanned<Body>>>,
     #[serde(default)]
     pub load: Vec<Load>,
-    /// In the contract but not supported yet: read only to be rejected.
-    pub connector: Option<Spanned<IgnoredAny>>,
+    #[serde(default)]
+    pub connector: Vec<Spanned<Connector>>,
     #[serde(default)]
     pub monitor: Vec<Monitor>,
     #[serde(default)]
@@ -130,6 +130,24 @@ pub(super) struct Load {
     pub point: Spanned<Vec<f64>>,
     pub force: Spanned<Vec<f64>>,
     pub history: Option<Spanned<Vec<Vec<f64>>>>,
+}
+
+/// `[[connector]]`: one struct for every kind; `check` rejects keys the kind does not use.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Connector {
+    pub name: Option<Spanned<String>>,
+    pub kind: Spanned<String>,
+    pub points: Spanned<Vec<Spanned<Vec<f64>>>>,
+    pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
+    pub stiffness: Option<Spanned<f64>>,
+    pub young: Option<Spanned<f64>>,
+    pub area: Option<Spanned<f64>>,
+    pub inertia: Option<Spanned<f64>>,
+    pub shear_modulus: Option<Spanned<f64>>,
+    pub shear_factor: Option<Spanned<f64>>,
+    pub pretension: Option<Spanned<f64>>,
+    pub strength: Option<Spanned<f64>>,
 }
 
 /// `[[monitor]]`

@@ -1,0 +1,325 @@
+//! Connectors: bolts, springs and beams joining two bodies (paper §5, eqs. 75-92; math note §6).
+//!
+//! Every kind is one small *element*, rebuilt at each step start from the current anchors:
+//! element quantities `e = G_1 d_1 + G_2 d_2` (m of them) with element stiffness `k` (m×m), so
+//! the connector adds `G_pᵀ k G_q` to the (p, q) block of the global stiffness and the force it
+//! carried into the step adds `−G_pᵀ F` to body p's load (math note §6, "forces carried").
+//!
+//! | kind | m | e | k |
+//! |---|---|---|---|
+//! | bolt, finite spring | 1 | elongation `lᵀ(u(A2) − u(A1))` | `EA/l` or `k` (eqs. 75-84; typo 16) |
+//! | zero-length spring | 2 | `u(A2) − u(A1)` | `k I` (eqs. 85-86) |
+//! | beam | 6 | `(u(A1), θ_1, u(A2), θ_2)` | corrected Timoshenko 6×6, ccw (typos 12-15) |
+//!
+//! Rotation of a material point, `E_b` (eq. 90): the DDA first-order map `u = T(x) d` (paper
+//! eqs. 3, 5, 7) has the displacement gradient `[[εx, γxy/2 − θ], [γxy/2 + θ, εy]]` (`ε I` for a
+//! particle), whose skew part, the rotation, is `θ` at every point. So `E_b` picks the rotation
+//! DOF `r0 = θ` (index 2) for rigid and deformable bodies alike; the strain DOFs do not rotate.
+//!
+//! A fixed body has no DOFs: its `G` has no columns, so a connector anchored in it acts on the
+//! free body alone. A broken connector contributes nothing.
+
+use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+
+use crate::body::{Body, Dofs};
+use crate::geometry::Vec2;
+pub use crate::model::ConnectorKind;
+use crate::model::ConnectorSpec;
+
+/// Whether two anchors coincide (relative to their distance from the origin; exact zero for two
+/// anchors at the origin). A zero-length spring is isotropic; a zero-length bolt or beam is an
+/// input error.
+pub fn is_zero_length(a: Vec2, b: Vec2) -> bool {
+    (b - a).norm() <= 1e-12 * a.norm().max(b.norm())
+}
+
+/// The force a connector carries from one step into the next (math note §6).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ConnectorForce {
+    /// Bolt or finite spring: axial force N [N], tension positive, along the anchors' line.
+    Axial(f64),
+    /// Zero-length spring: the force on anchor 1's body [N], global axes (anchor 2's body gets
+    /// the opposite); `k (x2 − x1)` for a spring that started at zero length.
+    Isotropic(Vec2),
+    /// Beam: the forces on the element's ends in its local frame (x from anchor 1 to anchor 2,
+    /// y = x turned ccw): `(fx1, fy1, m1, fx2, fy2, m2) = k_local u_local`. The beam exerts the
+    /// opposite on the bodies.
+    Beam(Vector6<f64>),
+}
+
+/// A bolt, spring or beam between two bodies, in its state at the start of the current step.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Connector {
+    pub name: String,
+    pub kind: ConnectorKind,
+    /// Indices of the bodies holding anchor 1 and anchor 2.
+    pub bodies: [usize; 2],
+    /// Current positions of the anchors (material points of their bodies).
+    pub anchors: [Vec2; 2],
+    pub force: ConnectorForce,
+    /// Axial tension beyond which it breaks [N]; `None`: never.
+    pub strength: Option<f64>,
+    /// Broken for good: no stiffness, no force.
+    pub broken: bool,
+}
+
+/// One step's element: `e = G[0] d_1 + G[1] d_2`, stiffness `k`, carried force `force` (all in
+/// global axes).
+struct Element {
+    g: [DMatrix<f64>; 2],
+    k: DMatrix<f64>,
+    force: DVector<f64>,
+}
+
+impl Connector {
+    /// The connector at t = 0: anchors at the spec's points (the bodies' initial configuration),
+    /// carrying its pretension (math note §6: P0 is the bolt's N0 at t = 0).
+    pub fn from_spec(spec: &ConnectorSpec) -> Connector {
+        let zero = is_zero_length(spec.points[0], spec.points[1]);
+        let force = match spec.kind {
+            ConnectorKind::Spring { .. } if zero => ConnectorForce::Isotropic(Vec2::zeros()),
+            ConnectorKind::Spring { .. } | ConnectorKind::Bolt { .. } => {
+                ConnectorForce::Axial(spec.pretension)
+            }
+            ConnectorKind::Beam { .. } => ConnectorForce::Beam(Vector6::zeros()),
+        };
+        Connector {
+            name: spec.name.clone(),
+            kind: spec.kind,
+            bodies: spec.bodies,
+            anchors: spec.points,
+            force,
+            strength: spec.strength,
+            broken: false,
+        }
+    }
+
+    /// Current distance between the anchors.
+    pub fn length(&self) -> f64 {
+        (self.anchors[1] - self.anchors[0]).norm()
+    }
+
+    /// Stiffness blocks in body DOFs for this step (step-start geometry): `(bi, bj, block)` with
+    /// `block` of size ndof(bi) × ndof(bj), for (1,1), (1,2), (2,1), (2,2), skipping fixed
+    /// bodies; empty once broken. Add each block at the bodies' DOF ranges of the global K.
+    pub fn stiffness(&self, bodies: &[Body]) -> Vec<(usize, usize, DMatrix<f64>)> {
+        if self.broken {
+            return Vec::new();
+        }
+        let el = self.element(bodies);
+        let mut blocks = Vec::with_capacity(4);
+        for p in 0..2 {
+            for q in 0..2 {
+                if el.g[p].ncols() > 0 && el.g[q].ncols() > 0 {
+                    blocks.push((self.bodies[p], self.bodies[q], el.g[p].transpose() * &el.k * &el.g[q]));
+                }
+            }
+        }
+        blocks
+    }
+
+    /// The step-start force as loads on the bodies' DOFs, `f_p = −G_pᵀ F` (math note §6: for a
+    /// bolt `f_1 = T_1(A1)ᵀ l N0`, `f_2 = −T_2(A2)ᵀ l N0`); fixed bodies and broken connectors
+    /// get nothing.
+    pub fn carried_load(&self, bodies: &[Body]) -> Vec<(usize, Dofs)> {
+        if self.broken {
+            return Vec::new();
+        }
+        let el = self.element(bodies);
+        let mut loads = Vec::with_capacity(2);
+        for p in 0..2 {
+            if el.g[p].ncols() > 0 {
+                let f = -(el.g[p].transpose() * &el.force);
+                let mut dofs = Dofs::zeros();
+                dofs.rows_mut(0, f.len()).copy_from(&f);
+                loads.push((self.bodies[p], dofs));
+            }
+        }
+        loads
+    }
+
+    /// After the step: `F += k e(d)` from the bodies' DOF increments (math note §6:
+    /// `N1 = N0 + (EA/l0) lᵀ(u(A2) − u(A1))`). `bodies_before` is the step-start state the
+    /// stiffness was built on; `d(b)` is body b's increment (not called for fixed bodies).
+    pub fn update(&mut self, bodies_before: &[Body], d: &dyn Fn(usize) -> Dofs) {
+        if self.broken {
+            return;
+        }
+        let el = self.element(bodies_before);
+        let mut e = DVector::zeros(el.k.nrows());
+        for p in 0..2 {
+            let n = el.g[p].ncols();
+            if n > 0 {
+                let dp = d(self.bodies[p]);
+                e += &el.g[p] * dp.rows(0, n);
+            }
+        }
+        let df = &el.k * e;
+        self.force = match self.force {
+            ConnectorForce::Axial(n) => ConnectorForce::Axial(n + df[0]),
+            ConnectorForce::Isotropic(f) => ConnectorForce::Isotropic(f + Vec2::new(df[0], df[1])),
+            ConnectorForce::Beam(f) => {
+                let global = Vector6::from_iterator(df.iter().copied());
+                ConnectorForce::Beam(f + self.to_local() * global)
+            }
+        };
+    }
+
+    /// Moves the anchors with their bodies (they are material points): `d(b)` is the increment
+    /// body b's geometry is updated with (the post-adjusted map of paper eqs. 16-18).
+    pub fn move_anchors(&mut self, bodies_before: &[Body], d: &dyn Fn(usize) -> Dofs) {
+        for k in 0..2 {
+            let body = &bodies_before[self.bodies[k]];
+            if !body.fixed {
+                self.anchors[k] = body.moved_point(self.anchors[k], &d(self.bodies[k]));
+            }
+        }
+    }
+
+    /// Axial force [N], tension positive (for a zero-length spring, the magnitude of its force).
+    pub fn axial_force(&self) -> f64 {
+        match self.force {
+            ConnectorForce::Axial(n) => n,
+            ConnectorForce::Isotropic(f) => f.norm(),
+            ConnectorForce::Beam(f) => f[3],
+        }
+    }
+
+    /// Beam only: the transverse force on the beam's end 2, along the axis turned ccw [N].
+    pub fn shear_force(&self) -> Option<f64> {
+        match self.force {
+            ConnectorForce::Beam(f) => Some(f[4]),
+            _ => None,
+        }
+    }
+
+    /// Beam only: the moments the beam exerts on body 1 and body 2, ccw positive [N·m].
+    pub fn end_moments(&self) -> Option<[f64; 2]> {
+        match self.force {
+            ConnectorForce::Beam(f) => Some([-f[2], -f[5]]),
+            _ => None,
+        }
+    }
+
+    /// Whether the axial tension exceeds the strength: the connector must break and its step be
+    /// solved again without it (math note §6).
+    pub fn exceeds_strength(&self) -> bool {
+        !self.broken && self.strength.is_some_and(|s| self.axial_force() > s)
+    }
+
+    /// Breaks the connector for good: from now on it has no stiffness and carries nothing.
+    pub fn break_off(&mut self) {
+        self.broken = true;
+    }
+
+    /// Unit axis from anchor 1 to anchor 2 and its length (step-start geometry).
+    fn axis(&self) -> (Vec2, f64) {
+        let v = self.anchors[1] - self.anchors[0];
+        let l = v.norm();
+        (v / l, l)
+    }
+
+    /// Global-to-local rotation of the beam's 6-vector: blockdiag(Q, 1, Q, 1), Q = [[c, s], [−s, c]].
+    fn to_local(&self) -> Matrix6<f64> {
+        let (a, _) = self.axis();
+        let mut r = Matrix6::identity();
+        for o in [0, 3] {
+            r[(o, o)] = a.x;
+            r[(o, o + 1)] = a.y;
+            r[(o + 1, o)] = -a.y;
+            r[(o + 1, o + 1)] = a.x;
+        }
+        r
+    }
+
+    /// This step's element (see the module table).
+    fn element(&self, bodies: &[Body]) -> Element {
+        let b = [&bodies[self.bodies[0]], &bodies[self.bodies[1]]];
+        let [a1, a2] = self.anchors;
+        match (self.kind, self.force) {
+            (ConnectorKind::Spring { stiffness }, ConnectorForce::Isotropic(f)) => Element {
+                g: [-t_rows(b[0], a1), t_rows(b[1], a2)],
+                k: DMatrix::identity(2, 2) * stiffness,
+                force: DVector::from_column_slice(&[f.x, f.y]),
+            },
+            (_, ConnectorForce::Axial(n)) => {
+                let (l, len) = self.axis();
+                let k = match self.kind {
+                    ConnectorKind::Bolt { young, area } => young * area / len,
+                    ConnectorKind::Spring { stiffness } => stiffness,
+                    ConnectorKind::Beam { .. } => unreachable!("a beam carries ConnectorForce::Beam"),
+                };
+                Element {
+                    g: [-row(b[0], a1, l), row(b[1], a2, l)],
+                    k: DMatrix::from_element(1, 1, k),
+                    force: DVector::from_element(1, n),
+                }
+            }
+            (ConnectorKind::Beam { .. }, ConnectorForce::Beam(f)) => self.beam_element(b, f),
+            _ => unreachable!("from_spec pairs each kind with its force"),
+        }
+    }
+
+    /// Beam element: `T_be = [[T_1(A1), 0], [E_1, 0], [0, T_2(A2)], [0, E_2]]` (eq. 90 corrected,
+    /// typo 14) and the corrected 6×6 of math note §6.
+    fn beam_element(&self, b: [&Body; 2], local: Vector6<f64>) -> Element {
+        let mut g = [DMatrix::zeros(6, b[0].ndof()), DMatrix::zeros(6, b[1].ndof())];
+        for p in 0..2 {
+            let n = b[p].ndof();
+            if n > 0 {
+                g[p].view_mut((3 * p, 0), (2, n)).copy_from(&t_rows(b[p], self.anchors[p]));
+                g[p][(3 * p + 2, 2)] = 1.0; // E_p: the rotation DOF r0 (module docs)
+            }
+        }
+        let (axis, len) = self.axis();
+        let global = self.to_local().transpose() * local;
+        Element {
+            g,
+            k: DMatrix::from_column_slice(6, 6, beam_matrix(&self.kind, len, axis).as_slice()),
+            force: DVector::from_column_slice(global.as_slice()),
+        }
+    }
+}
+
+/// `T_b(x)`: 2 × ndof (paper eqs. 3, 5, 7).
+fn t_rows(body: &Body, x: Vec2) -> DMatrix<f64> {
+    let n = body.ndof();
+    let (rx, ry) = (body.shape_row(x, Vec2::x()), body.shape_row(x, Vec2::y()));
+    DMatrix::from_fn(2, n, |i, j| if i == 0 { rx[j] } else { ry[j] })
+}
+
+/// `lᵀ T_b(x)`: 1 × ndof.
+fn row(body: &Body, x: Vec2, l: Vec2) -> DMatrix<f64> {
+    let r = body.shape_row(x, l);
+    DMatrix::from_fn(1, body.ndof(), |_, j| r[j])
+}
+
+/// The corrected 2-node Timoshenko beam in global axes, DOFs `(u1x, u1y, θ1, u2x, u2y, θ2)` with
+/// ccw rotations (math note §6; the printed eq. 88 has every A3 sign flipped, typo 12):
+/// `b = 12 EI k_Be/(G A l²)` (eq. 89), `A1 = EA/l`, `A2 = 12EI/((1+b)l³)`, `A3 = 6EI/((1+b)l²)`,
+/// `A4 = (4+b)EI/((1+b)l)`, `A5 = (2−b)EI/((1+b)l)`, `(c, s)` the unit axis from anchor 1 to 2.
+fn beam_matrix(kind: &ConnectorKind, l: f64, axis: Vec2) -> Matrix6<f64> {
+    let ConnectorKind::Beam { young: e, area, inertia: i, shear_modulus: g, shear_factor } = *kind else {
+        return Matrix6::zeros();
+    };
+    let b = 12.0 * e * i * shear_factor / (g * area * l * l);
+    let a1 = e * area / l;
+    let a2 = 12.0 * e * i / ((1.0 + b) * l.powi(3));
+    let a3 = 6.0 * e * i / ((1.0 + b) * l * l);
+    let a4 = (4.0 + b) * e * i / ((1.0 + b) * l);
+    let a5 = (2.0 - b) * e * i / ((1.0 + b) * l);
+    let (c, s) = (axis.x, axis.y);
+    let xx = a1 * c * c + a2 * s * s;
+    let xy = (a1 - a2) * c * s;
+    let yy = a1 * s * s + a2 * c * c;
+    #[rustfmt::skip]
+    let k = Matrix6::new(
+         xx,      xy,     -a3 * s, -xx,     -xy,     -a3 * s,
+         xy,      yy,      a3 * c, -xy,     -yy,      a3 * c,
+        -a3 * s,  a3 * c,  a4,      a3 * s, -a3 * c,  a5,
+        -xx,     -xy,      a3 * s,  xx,      xy,      a3 * s,
+        -xy,     -yy,     -a3 * c,  xy,      yy,     -a3 * c,
+        -a3 * s,  a3 * c,  a5,      a3 * s, -a3 * c,  a4,
+    );
+    k
+}
