@@ -10,6 +10,7 @@
 //! [`SceneError`] naming file, line, column and key.
 
 mod check;
+pub mod overrides;
 mod raw;
 
 use std::cmp::Reverse;
@@ -21,6 +22,7 @@ use toml::de::{DeTable, DeValue, Deserializer};
 
 pub use crate::error::SceneError;
 use crate::model::Model;
+pub use overrides::{Override, load_with, parse_with};
 
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.
 pub fn load(path: &Path) -> Result<Model, SceneError> {
