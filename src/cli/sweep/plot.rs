@@ -8,6 +8,9 @@ use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
 
+/// One error measure: legend, colour, (cost, error) points.
+type Series<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
+
 const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 
 fn register_font() {
@@ -22,7 +25,7 @@ fn register_font() {
 pub fn error_against_cost(report: &SweepReport, path: &Path) -> Result<()> {
     register_font();
     let fail = |e: &dyn std::fmt::Display| miette!("{}: cannot draw the sweep plot: {e}", path.display());
-    let series: Vec<(&str, RGBColor, Vec<(f64, f64)>)> = vec![
+    let series: Vec<Series> = vec![
         ("monitor position [m]", BLUE, report.rows.iter().map(|r| (cost(r), r.monitor_error)).collect()),
         ("peak contact force [N]", RED, report.rows.iter().map(|r| (cost(r), r.peak_force_error)).collect()),
         (
