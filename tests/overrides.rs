@@ -144,3 +144,12 @@ fn binary_accepts_set_on_run_and_check() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("KEY=VALUE"));
 }
+
+#[test]
+fn syntax_error_of_the_file_is_reported_as_without_overrides() {
+    let text = "[time]\nstep = = 1\n";
+    let plain = parse_with(text, "bad.toml", &[]).expect_err("syntax error");
+    let with = parse_with(text, "bad.toml", &set(&["time.step=1"])).expect_err("syntax error");
+    assert_eq!(with.to_string(), plain.to_string());
+    assert_eq!(with.line, 2);
+}

@@ -89,6 +89,10 @@ pub fn load_with(path: &Path, overrides: &[Override]) -> Result<Model, SceneErro
 
 /// Validates the scene text `source` with `overrides` applied.
 pub fn parse_with(source: &str, file: &str, overrides: &[Override]) -> Result<Model, SceneError> {
+    if overrides.is_empty() || DeTable::parse(source).is_err() {
+        // nothing to apply, or a syntax error of the file itself: the reader reports it
+        return super::parse(source, file);
+    }
     let mut text = source.to_owned();
     let mut edits: Vec<Edit> = Vec::new();
     for ov in overrides {
