@@ -10,8 +10,8 @@
 //! column shows order ~1), but at the peak N' = 0, so the peak value N = m g + m v²/L keeps
 //! the second order of the motion: e(h) = C |h² - h_ref²|, and the observed order between h
 //! and h/2 is ln((h² - h_ref²)/(h²/4 - h_ref²)) / ln 2 (2.00 to 2.07 here).
-//! The sweep refines each peak by the parabola through the largest step value and its two neighbours, which
-//! removes the sampling error at step times. Tolerance 0.25 on each order: besides
+//! The sweep refines each peak by the parabola through the largest step value and its two
+//! neighbours, which removes the sampling error at step times. Tolerance 0.25 on each order: besides
 //! discretization, the reference carries an error of ~0.2 N from the solver tolerance (it
 //! grows like 1/dt², and dominates below dt = 0.005 s), up to 15 % of the smallest error
 //! compared (1.5 N), i.e. up to 0.2 in the order.
