@@ -305,8 +305,8 @@ impl SweepReport {
     pub fn csv(&self) -> String {
         let r0 = &self.reference;
         let mut head = String::from(
-            "value,steps,wall_seconds,iterations,monitor_error,monitor_order,peak_force_error,peak_force_order,\
-             final_force_error,final_force_order",
+            "value,steps,wall_seconds,iterations,monitor_error,monitor_order,\
+             peak_force_error,peak_force_order,final_force_error,final_force_order",
         );
         let pairs: Vec<&String> = {
             let mut p: Vec<&String> =
