@@ -2,6 +2,9 @@
 //! contract (docs/scene-format.md) with their exact headers and a completed run.log, refuses
 //! to mix with an earlier run unless --overwrite, and a bad scene fails before any output is
 //! created, with an error naming the file, line and key; `check` prints the scene summary.
+//! Progress (src/cli/progress.rs): nothing at all with --quiet; when stderr is not a terminal
+//! (here: a pipe) plain lines at every 10 % of the steps, without ANSI escapes or carriage
+//! returns, and the closing summary.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -91,4 +94,32 @@ fn check_prints_a_summary() {
     assert!(text.contains("bodies: 5 (0 disks, 0 rings, 5 polygons; 1 fixed, 0 deformable)"), "{text}");
     // d0 estimated as a tenth of the smallest feature: the 5 m floor edge
     assert!(text.contains("contact threshold d0: 0.5 m"), "{text}");
+}
+
+#[test]
+fn quiet_run_prints_nothing() {
+    let out = scratch("quiet");
+    let o = pbdda(&["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap(), "-q"]);
+    assert!(o.status.success());
+    assert_eq!(String::from_utf8_lossy(&o.stderr), "", "stderr with --quiet");
+    assert_eq!(String::from_utf8_lossy(&o.stdout), "", "stdout with --quiet");
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn progress_is_plain_when_not_on_a_terminal() {
+    let out = scratch("plain");
+    let o = pbdda(&["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!err.contains('\u{1b}') && !err.contains('\r'), "escape codes in piped output: {err:?}");
+    // 100 steps: one line at each tenth, each shown once (a step prints at most one line)
+    for k in 1..=10 {
+        let tag = format!("step {}/100 ({} %)", 10 * k, 10 * k);
+        assert_eq!(err.matches(&tag).count(), 1, "{tag} in {err}");
+    }
+    assert!(err.contains("completed 100 steps to t = 0.1 s"), "{err}");
+    assert!(err.contains("warnings and events: none"), "{err}");
+    assert!(err.contains(&format!("results in {}", out.display())), "{err}");
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -11,6 +11,7 @@
 
 mod check;
 mod connectors;
+pub mod overrides;
 mod raw;
 
 use std::cmp::Reverse;
@@ -22,6 +23,7 @@ use toml::de::{DeTable, DeValue, Deserializer};
 
 pub use crate::error::SceneError;
 use crate::model::Model;
+pub use overrides::{Override, load_with, parse_with};
 
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.
 pub fn load(path: &Path) -> Result<Model, SceneError> {

@@ -1,0 +1,76 @@
+//! `pbdda run SCENE --out DIR [--set KEY=VALUE]...`: run a scene, writing results as it goes.
+
+use super::progress::{Progress, ProgressMode, RunSummary};
+use crate::output::csv::{CsvWriter, OutputError};
+use crate::scene::{self, Override};
+use crate::world::{StepRecord, World};
+use miette::Result;
+use std::path::Path;
+use std::time::Instant;
+
+/// Everything a run writes as it goes. A new writer (the VTK time series) joins here: a field,
+/// created in [`Writers::create`], fed in [`Writers::write_step`].
+struct Writers {
+    csv: CsvWriter,
+}
+
+impl Writers {
+    /// Creates the output directory's files; refuses an earlier run's files unless `overwrite`.
+    fn create(out: &Path, world: &World, overwrite: bool) -> Result<Writers, OutputError> {
+        let model = &world.model;
+        let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?;
+        Ok(Writers { csv })
+    }
+
+    fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
+        self.csv.write_step(world, rec)
+    }
+
+    fn log(&mut self, line: &str) -> Result<(), OutputError> {
+        self.csv.log(line)
+    }
+}
+
+pub(super) fn run(
+    scene_path: &Path,
+    out: &Path,
+    overwrite: bool,
+    quiet: bool,
+    set: &[Override],
+) -> Result<()> {
+    // Validate everything before the first file is created.
+    let model = scene::load_with(scene_path, set)?;
+    let steps = model.time.steps;
+    let mut world = World::new(model);
+    let mut writers = Writers::create(out, &world, overwrite)?;
+    if !set.is_empty() {
+        let list: Vec<String> = set.iter().map(|o| o.to_string()).collect();
+        writers.log(&format!("overrides: --set {}", list.join(" --set ")))?;
+    }
+    let mut progress = Progress::new(steps, ProgressMode::detect(quiet));
+    let mut summary = RunSummary::default();
+    let started = Instant::now();
+    for _ in 0..steps {
+        let rec = match world.step() {
+            Ok(rec) => rec,
+            Err(e) => {
+                progress.finish();
+                writers.log(&format!("failed: {e}"))?;
+                return Err(e.into());
+            }
+        };
+        summary.record(&rec);
+        for line in rec.warnings.iter().map(|w| format!("warning: {w}")).chain(rec.events.iter().cloned()) {
+            progress.println(&line);
+        }
+        writers.write_step(&world, &rec)?;
+        progress.step(&rec);
+    }
+    progress.finish();
+    summary.wall_seconds = started.elapsed().as_secs_f64();
+    writers.log(&summary.log_line())?;
+    if !quiet {
+        eprint!("{}", summary.text(out));
+    }
+    Ok(())
+}
