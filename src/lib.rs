@@ -25,6 +25,7 @@ pub mod contact;
 pub mod error;
 pub mod generate;
 pub mod geometry;
+pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod scene;
