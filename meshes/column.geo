@@ -1,5 +1,5 @@
 // Column under self-weight (math note 9.5): width 0.25 m, height H = 1 m, base on y = 0.
-// Generated at lc = 0.1, 0.05, 0.025 (column_1/2/3.msh): three successively refined unstructured meshes.
+// Generated at lc = 0.05, 0.025, 0.0125 (column_1/2/3.msh): three successively refined unstructured meshes.
 DefineConstant[ lc = 0.1 ];
 Point(1) = {0.0, 0.0, 0, lc};
 Point(2) = {0.25, 0.0, 0, lc};
