@@ -66,7 +66,7 @@ fn triangles(r: &Reader, raw: &Raw, resolved: &[Vec<usize>]) -> Result<Vec<(usiz
         let (pa, pb, pc) = (raw.nodes[a].p, raw.nodes[b].p, raw.nodes[c].p);
         let area2 = cross(pb - pa, pc - pa);
         let longest = (pb - pa).norm_squared().max((pc - pb).norm_squared()).max((pa - pc).norm_squared());
-        if !(area2.abs() > DEGENERATE * longest) {
+        if !area2.is_finite() || area2.abs() <= DEGENERATE * longest {
             let nodes = [raw.nodes[a].tag, raw.nodes[b].tag, raw.nodes[c].tag];
             return Err(r.err(e.pos, K::Degenerate { element: e.tag, nodes }));
         }
