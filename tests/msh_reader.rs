@@ -135,6 +135,32 @@ fn physical_surface_and_curve_node_sets() {
     assert_eq!(clamp.len(), 5);
     let both = beam.node_set(&["clamp", "tip"]).unwrap();
     assert_eq!(both.len(), 10);
+    // square.geo: physical point "origin" is corner (0, 0).
+    let square = read("square.msh");
+    let origin = square.node_set(&["origin"]).unwrap();
+    assert_eq!(origin.len(), 1);
+    assert_eq!(square.nodes[origin[0]], pbdda::geometry::Vec2::new(0.0, 0.0));
+}
+
+/// `locate` returns area coordinates that reproduce the point (sum L_i x_i = x, sum L_i = 1) inside
+/// the 1.0 x 0.8 square, and `None` outside it; `transformed` scales areas by scale^2 and keeps
+/// every triangle counter-clockwise, also for a negative scale (a 180° rotation).
+#[test]
+fn locate_and_transform() {
+    use pbdda::geometry::Vec2;
+    let mesh = read("square.msh");
+    for x in [Vec2::new(0.3, 0.2), Vec2::new(0.999, 0.799), Vec2::new(0.5, 0.4), Vec2::new(0.0, 0.0)] {
+        let (t, l) = mesh.locate(x, 1e-12).unwrap();
+        let back: Vec2 = (0..3).map(|i| mesh.nodes[mesh.triangles[t][i]] * l[i]).sum();
+        assert!((back - x).norm() < 1e-14 && (l.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+    }
+    assert!(mesh.locate(Vec2::new(1.01, 0.5), 1e-12).is_none());
+    for scale in [2.0, -0.5] {
+        let m = mesh.transformed(scale, Vec2::new(10.0, -3.0));
+        let area: f64 = (0..m.triangles.len()).map(|t| m.area2(t) / 2.0).sum();
+        assert!((area - 0.8 * scale * scale).abs() < 1e-12);
+        assert!((0..m.triangles.len()).all(|t| m.area2(t) > 0.0));
+    }
 }
 
 fn bad(name: &str) -> pbdda::mesh::MeshError {
@@ -150,6 +176,11 @@ fn bad(name: &str) -> pbdda::mesh::MeshError {
 fn errors_name_the_line() {
     use MeshErrorKind as K;
     let e = bad("missing_node.msh");
+    let text = e.to_string();
+    assert!(
+        text.ends_with("missing_node.msh:22: element 4 references node 9, which is not in $Nodes"),
+        "{text}"
+    );
     assert_eq!((e.line(), e.kind), (Some(22), K::MissingNode { element: 4, node: 9 }));
     let e = bad("degenerate.msh");
     assert_eq!((e.line(), e.kind), (Some(20), K::Degenerate { element: 2, nodes: [1, 2, 5] }));

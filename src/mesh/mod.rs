@@ -206,6 +206,27 @@ impl Mesh {
         Ok(out)
     }
 
+    /// The mesh scaled by `scale` about the origin, then translated by `offset` (scene keys `scale`,
+    /// `offset`). A negative scale mirrors it through the origin (a rotation by 180°) and keeps the
+    /// triangles counter-clockwise.
+    pub fn transformed(&self, scale: f64, offset: Vec2) -> Mesh {
+        Mesh { nodes: self.nodes.iter().map(|p| p * scale + offset).collect(), ..self.clone() }
+    }
+
+    /// The triangle holding point `x` and the area coordinates of `x` in it (math note §9.2: a
+    /// point moves as `sum L_i u_i`), or `None` outside the mesh. Points on a shared edge go to the
+    /// first triangle in file order; `tol` widens each triangle by that much in area coordinates.
+    pub fn locate(&self, x: Vec2, tol: f64) -> Option<(usize, [f64; 3])> {
+        self.triangles.iter().enumerate().find_map(|(t, &[a, b, c])| {
+            let (pa, pb, pc) = (self.nodes[a], self.nodes[b], self.nodes[c]);
+            let area2 = crate::geometry::cross(pb - pa, pc - pa);
+            let la = crate::geometry::cross(pb - x, pc - x) / area2;
+            let lb = crate::geometry::cross(pc - x, pa - x) / area2;
+            let l = [la, lb, 1.0 - la - lb];
+            l.iter().all(|&v| v >= -tol).then_some((t, l))
+        })
+    }
+
     /// Twice the signed area of triangle `t` (positive: counter-clockwise).
     pub fn area2(&self, t: usize) -> f64 {
         let [a, b, c] = self.triangles[t];
