@@ -29,6 +29,7 @@ pub mod error;
 pub mod generate;
 pub mod geometry;
 pub mod jacobian;
+pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod scene;

@@ -1,0 +1,31 @@
+// Hertz half-block (math note 9.5): x in [-2, 2], y in [-2, 0]; the disk touches the top at (0, 0).
+// Element size lc_fine within 0.15 m of the contact point, growing to lc far away.
+DefineConstant[ lc = 0.25, lc_fine = 0.01 ];
+Point(1) = {-2, -2, 0, lc};
+Point(2) = {2, -2, 0, lc};
+Point(3) = {2, 0, 0, lc};
+Point(4) = {0, 0, 0, lc_fine};
+Point(5) = {-2, 0, 0, lc};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 5};
+Line(5) = {5, 1};
+Curve Loop(1) = {1, 2, 3, 4, 5};
+Plane Surface(1) = {1};
+Field[1] = Distance;
+Field[1].PointsList = {4};
+Field[2] = Threshold;
+Field[2].InField = 1;
+Field[2].SizeMin = lc_fine;
+Field[2].SizeMax = lc;
+Field[2].DistMin = 0.15;
+Field[2].DistMax = 1.5;
+Background Field = 2;
+Mesh.MeshSizeExtendFromBoundary = 0;
+Mesh.MeshSizeFromPoints = 0;
+Mesh.MeshSizeFromCurvature = 0;
+Physical Surface("block") = {1};
+Physical Curve("base") = {1};
+Physical Curve("top") = {3, 4};
+Physical Point("contact") = {4};
