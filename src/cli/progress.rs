@@ -4,7 +4,7 @@
 //! terminal (a pipe, a CI log): plain lines at every 10 % of the steps, and at least every
 //! 10 s of wall time, without escape codes or carriage returns. `--quiet`: nothing.
 
-use crate::world::StepRecord;
+use crate::world::{Event, StepRecord, Warning};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
@@ -133,7 +133,7 @@ impl RunSummary {
             *self.by_kind.entry(warning_kind(w)).or_default() += 1;
         }
         for e in &rec.events {
-            *self.by_kind.entry(if e.contains("broke") { "joint broke" } else { "event" }).or_default() += 1;
+            *self.by_kind.entry(event_kind(e)).or_default() += 1;
         }
     }
 
@@ -187,12 +187,15 @@ impl RunSummary {
 }
 
 /// Kind of a warning line of the world (see `world::solve`, `World::penetration_warnings`).
-fn warning_kind(w: &str) -> &'static str {
-    if w.contains("did not converge") {
-        "solver not converged"
-    } else if w.contains("penetrate") {
-        "penetration"
-    } else {
-        "other warning"
+fn warning_kind(w: &Warning) -> &'static str {
+    match w {
+        Warning::NotConverged { .. } => "solver not converged",
+        Warning::Penetration { .. } => "penetration",
+    }
+}
+
+fn event_kind(e: &Event) -> &'static str {
+    match e {
+        Event::JointBroke { .. } => "joint broke",
     }
 }

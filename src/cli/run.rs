@@ -60,7 +60,8 @@ pub(super) fn run(
             }
         };
         summary.record(&rec);
-        for line in rec.warnings.iter().map(|w| format!("warning: {w}")).chain(rec.events.iter().cloned()) {
+        let events = rec.events.iter().map(|e| e.to_string());
+        for line in rec.warnings.iter().map(|w| format!("warning: {w}")).chain(events) {
             progress.println(&line);
         }
         writers.write_step(&world, &rec)?;
