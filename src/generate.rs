@@ -92,7 +92,7 @@ impl DiskPile {
             bodies,
             loads: vec![],
             monitors: vec![],
-            output: OutputSettings { every: 1 },
+            output: OutputSettings { every: 1, vtk: true },
         }
     }
 }
