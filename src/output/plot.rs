@@ -69,8 +69,24 @@ fn range(series: &[Series], pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
     if lo > hi {
         return (0.0, 1.0);
     }
-    let pad = if hi > lo { 0.05 * (hi - lo) } else { 0.5 * lo.abs().max(1e-12) };
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else if lo != 0.0 {
+        0.5 * lo.abs()
+    } else {
+        1.0
+    };
     (lo - pad, hi + pad)
+}
+
+/// Axis tick text: plain for moderate magnitudes, scientific otherwise.
+fn tick(v: &f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-3..1e5).contains(&a) {
+        format!("{v:.2e}")
+    } else {
+        format!("{}", (v * 1e6).round() / 1e6)
+    }
 }
 
 fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> DrawResult
@@ -90,6 +106,8 @@ where
         .x_desc(panel.x_label.as_str())
         .y_desc(panel.y_label.as_str())
         .label_style(("sans-serif", 14))
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .draw()?;
     for (i, (name, points)) in panel.series.iter().enumerate() {
         let color = Palette99::pick(i).to_rgba();

@@ -84,7 +84,7 @@ pub fn render_step(
         .collect();
     let time =
         bodies.numbers("time")?.into_iter().zip(super::results::steps_of(&bodies)?).find(|(_, s)| *s == step);
-    let mut placed = Vec::new();
+    let (mut placed, mut rotation) = (Vec::new(), Vec::new());
     let mut centroid: HashMap<&str, (Vec2, bool)> = HashMap::new();
     for g in &geometry {
         let s = states.get(&g.name).ok_or_else(|| ResultsError::Format {
@@ -93,6 +93,7 @@ pub fn render_step(
             message: format!("body `{}` of geometry.csv has no row at step {step}", g.name),
         })?;
         placed.push((g.fixed, place(g, s)));
+        rotation.push(s.rotation);
         centroid.insert(g.name.as_str(), (s.centroid, g.fixed));
     }
     let view = {
@@ -102,7 +103,7 @@ pub fn render_step(
     let root = BitMapBackend::new(out, size).into_drawing_area();
     let draw = |e: DrawingAreaErrorKind<_>| ResultsError::Draw(format!("{}: {e}", out.display()));
     root.fill(&WHITE).map_err(draw)?;
-    draw_bodies(&root, &view, &geometry, &placed).map_err(draw)?;
+    draw_bodies(&root, &view, &geometry, &placed, &rotation).map_err(draw)?;
     let fmax = contacts.iter().map(|c| c.normal_force.abs()).fold(0.0, f64::max);
     for c in contacts.iter().filter(|c| c.normal_force != 0.0 && fmax > 0.0) {
         let width = (MAX_LINE * c.normal_force.abs() / fmax).max(1.0).round() as u32;
@@ -116,7 +117,7 @@ pub fn render_step(
         }
     }
     draw_connectors(dir, step, &root, &view, &centroid)?;
-    let t = time.map_or(String::new(), |(t, _)| format!(", t = {t} s"));
+    let t = time.map_or(String::new(), |(t, _)| format!(", t = {} s", (t * 1e9).round() / 1e9));
     root.draw(&Text::new(format!("step {step}{t}"), (10, 8), ("sans-serif", 20))).map_err(draw)?;
     root.present().map_err(draw)?;
     Ok(out.to_path_buf())
@@ -131,6 +132,7 @@ fn draw_bodies<'a>(
     view: &View,
     geometry: &[BodyGeometry],
     placed: &[(bool, Placed)],
+    rotation: &[f64],
 ) -> AreaResult<'a> {
     let edge = RGBColor(40, 40, 40);
     let order =
@@ -153,6 +155,16 @@ fn draw_bodies<'a>(
                 if let Some(r) = inner {
                     root.draw(&Circle::new(c, view.len(*r), WHITE.filled()))?;
                     root.draw(&Circle::new(c, view.len(*r), edge.stroke_width(1)))?;
+                }
+                if !fixed {
+                    // a radius marks the rotation
+                    let (s, co) = rotation[i].sin_cos();
+                    let dir = Vec2::new(co, s);
+                    let from = view.px(center + dir * inner.unwrap_or(0.0));
+                    root.draw(&PathElement::new(
+                        vec![from, view.px(center + dir * *outer)],
+                        edge.stroke_width(1),
+                    ))?;
                 }
             }
             Placed::Polygon(v) => {
