@@ -287,3 +287,19 @@ fn pvd_is_valid_before_the_first_step() {
     assert_eq!(text.matches("<DataSet ").count(), 0);
     assert!(text.contains("<Collection>") && text.contains("</VTKFile>"));
 }
+
+/// `[output] vtk` (scene format: "vtk = true ... (default true)"): absent is true, `false` is
+/// read, and a value of the wrong type is an error naming the key and its line.
+#[test]
+fn output_vtk_key() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_1_disk_heap.toml");
+    let text = std::fs::read_to_string(&path).expect("example");
+    assert!(!text.contains("[output]"), "the example sets no [output] table");
+    let parse = |extra: &str| pbdda::scene::parse(&format!("{text}\n[output]\n{extra}\n"), "s.toml");
+    assert!(pbdda::scene::parse(&text, "s.toml").expect("example").output.vtk);
+    assert!(parse("every = 2").expect("every only").output.vtk);
+    assert!(!parse("vtk = false").expect("vtk off").output.vtk);
+    let err = parse("vtk = 1").expect_err("vtk = 1 is not a boolean").to_string();
+    let line = text.lines().count() + 3;
+    assert!(err.contains("vtk") && err.contains(&format!("s.toml:{line}")), "{err}");
+}

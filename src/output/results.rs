@@ -178,11 +178,11 @@ pub fn read_geometry(dir: &Path) -> Result<Vec<BodyGeometry>, ResultsError> {
             }
             "polygon" => {
                 let v = Vec2::new(need(x[i], "x")?, need(y[i], "y")?);
-                if let Some(last) = out.last_mut().filter(|b| b.name == names[i]) {
-                    if let Outline::Polygon { vertices, .. } = &mut last.outline {
-                        vertices.push(v);
-                        continue;
-                    }
+                if let Some(last) = out.last_mut().filter(|b| b.name == names[i])
+                    && let Outline::Polygon { vertices, .. } = &mut last.outline
+                {
+                    vertices.push(v);
+                    continue;
                 }
                 Outline::Polygon { vertices: vec![v], convex: vec![] }
             }

@@ -365,7 +365,7 @@ impl VtkWriter {
     /// updated `.pvd`.
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let s = rec.step;
-        if s % self.every != 0 && s != self.last_step {
+        if !s.is_multiple_of(self.every) && s != self.last_step {
             return Ok(());
         }
         let grid = step_grid(world, rec);
