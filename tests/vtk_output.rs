@@ -31,7 +31,10 @@ fn example(name: &str) -> Model {
 
 /// Runs `steps` steps of an example, writing CSVs, geometry and VTK as `pbdda run` does.
 fn run(name: &str, steps: usize, every: usize) -> (PathBuf, World) {
-    let mut model = example(name);
+    run_model(name, example(name), steps, every)
+}
+
+fn run_model(name: &str, mut model: Model, steps: usize, every: usize) -> (PathBuf, World) {
     model.time.steps = steps;
     model.output.every = every;
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("vtk_{name}"));
@@ -233,27 +236,57 @@ fn check_contacts(step: &Step, t: &Table, rows: &[Vec<String>], nb: usize, s: us
     }
 }
 
-#[test]
-fn disk_heap_time_series_matches_csvs_and_lines_join_the_disks() {
-    // 5 steps, every 2nd written: steps 2, 4 and the last, 5
-    let (dir, world) = run("7_1_disk_heap.toml", 5, 2);
-    let steps = check_run(&dir, &world, &[2, 4, 5]);
-    let last = steps.last().expect("three steps");
+/// Each end of every contact line lies on its disk's circle to `tol` (bodies not disks are
+/// skipped): the B end first, then the A end.
+fn check_line_ends(dir: &Path, world: &World, step: &Step, s: usize, tol: f64) -> usize {
     let contacts = Table::read(&dir.join("contacts.csv")).unwrap();
-    let rows = rows_at(&contacts, 5);
-    assert_eq!(rows.len(), 3, "the heap has three contacts (Table 1)");
+    let rows = rows_at(&contacts, s);
     let nb = world.bodies.len();
+    let mut checked = 0;
     for (k, row) in rows.iter().enumerate() {
-        let ends = [last.points[last.cells[nb + k][0]], last.points[last.cells[nb + k][1]]];
+        let ends = [step.points[step.cells[nb + k][0]], step.points[step.cells[nb + k][1]]];
         let names = [&row[contacts.col("body_b").unwrap()], &row[contacts.col("body_a").unwrap()]];
         for (end, name) in ends.iter().zip(names) {
             let b = world.bodies.iter().find(|b| &b.name == name).expect("body");
             if let pbdda::body::Outline::Disk { radius } = b.outline {
                 let d = (end - b.centroid).norm() - radius;
-                assert!(d.abs() < 1e-8, "contact {k}: the end on {name} is {d:e} m off its circle");
+                assert!(d.abs() < tol, "contact {k}: the end on {name} is {d:e} m off its circle");
+                checked += 1;
             }
         }
     }
+    checked
+}
+
+#[test]
+fn disk_heap_time_series_matches_csvs_and_lines_join_the_disks() {
+    // 5 steps, every 2nd written: steps 2, 4 and the last, 5
+    let (dir, world) = run("7_1_disk_heap.toml", 5, 2);
+    let steps = check_run(&dir, &world, &[2, 4, 5]);
+    let rows = rows_at(&Table::read(&dir.join("contacts.csv")).unwrap(), 5);
+    assert_eq!(rows.len(), 3, "the heap has three contacts (Table 1)");
+    // d1-d2 both ends, d2-d3 both ends, d3 end of d3-floor
+    assert_eq!(check_line_ends(&dir, &world, &steps[2], 5, 1e-8), 5);
+}
+
+/// An open contact with a real gap: the §7.1 heap with d1 lifted by 0.2 m (within the
+/// default contact threshold, a tenth of the 10 m radius). d1 falls from rest under g = 10:
+/// after 5 steps of 1 ms it moves 5e-5 m per step, and the line's ends (start-of-step contact
+/// point ± end-of-step gap / 2) lie on the circles to that motion; 1e-4 m tolerance, while
+/// ends swapped or misplaced would be 0.2 m off.
+#[test]
+fn open_contact_line_spans_the_gap() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_1_disk_heap.toml");
+    let text = std::fs::read_to_string(&path).expect("example");
+    assert_eq!(text.matches("center = [0.0, 50.0]").count(), 1);
+    let lifted = text.replace("center = [0.0, 50.0]", "center = [0.0, 50.2]");
+    let model = pbdda::scene::parse(&lifted, "lifted.toml").expect("lifted heap");
+    let (dir, world) = run_model("lifted_heap", model, 5, 1);
+    let steps = check_run(&dir, &world, &[1, 2, 3, 4, 5]);
+    let contacts = Table::read(&dir.join("contacts.csv")).unwrap();
+    let gap = num(&contacts, &rows_at(&contacts, 5)[2], "gap");
+    assert!((gap - 0.2).abs() < 1e-3, "d1-d2 is the third contact, open by about 0.2 m: {gap}");
+    assert_eq!(check_line_ends(&dir, &world, &steps[4], 5, 1e-4), 5);
 }
 
 #[test]
