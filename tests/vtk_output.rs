@@ -336,3 +336,45 @@ fn output_vtk_key() {
     let line = text.lines().count() + 3;
     assert!(err.contains("vtk") && err.contains(&format!("s.toml:{line}")), "{err}");
 }
+
+/// The connector and mesh hooks write cells a VTK reader reads back: a square of two
+/// triangles (4 nodes, displacement as point data) and one connector line; counts and values
+/// are the ones put in.
+#[test]
+fn connector_and_mesh_hooks_write_readable_cells() {
+    use pbdda::output::vtk::{CellValues, Grid, LineCell, MeshCells, add_lines, add_mesh};
+    let mut grid = Grid::default();
+    let line =
+        CellValues { kind: 20, state: 4, axial_force: 1.5e4, body: 0, body_b: 1, ..CellValues::default() };
+    add_lines(&mut grid, &[LineCell { a: Vec2::new(0.0, 0.0), b: Vec2::new(2.0, 1.0), values: line }]);
+    let nodes = vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
+    let mesh = MeshCells {
+        body: 2,
+        displacement: nodes.iter().map(|p| p * 1e-3).collect(),
+        nodes,
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        stress: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+        strain: vec![[0.0; 3]; 2],
+    };
+    add_mesh(&mut grid, &mesh);
+    assert_eq!((grid.num_cells(), grid.num_points()), (3, 6));
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hooks.vtu");
+    grid.into_vtk("hooks").export(&path).expect("export");
+    let step = Step::read(&path);
+    assert_eq!(step.cells, vec![vec![0, 1], vec![2, 3, 4], vec![2, 4, 5]]);
+    assert_eq!(step.types, vec![CellType::Line, CellType::Triangle, CellType::Triangle]);
+    assert_eq!(step.array("axial_force"), &[1.5e4, 0.0, 0.0]);
+    assert_eq!(step.array("kind"), &[20.0, 30.0, 30.0]);
+    assert_eq!(step.array("stress"), &[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    let vtk = Vtk::import(&path).expect("import");
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("grid") };
+    let Some(Piece::Inline(piece)) = pieces.into_iter().next() else { panic!("piece") };
+    let Some(Attribute::DataArray(d)) = piece.data.point.into_iter().find(|a| a.name() == "displacement")
+    else {
+        panic!("no displacement point data")
+    };
+    let d: Vec<f64> = d.data.cast_into().expect("f64");
+    // the line's two points have none; node 2 (1, 1) moved by 1e-3 (1, 1)
+    assert_eq!(&d[..6], &[0.0; 6]);
+    assert_eq!(&d[3 * 4..3 * 5], &[1e-3, 1e-3, 0.0]);
+}
