@@ -146,3 +146,25 @@ fn readme_pictures() {
         written.iter().find(|p| p.to_string_lossy().contains("contact_forces")).expect("a contact figure");
     std::fs::copy(chosen, img.join("contact_forces.png")).expect("copy");
 }
+
+/// A results folder still being written: the last step of bodies.csv has only some of its
+/// rows, the last line not even finished. The default picture is then the last complete step
+/// (the §7.1 heap has 4 bodies; 3 steps written, so step 2), and rendering works.
+#[test]
+fn running_folder_renders_the_last_complete_step() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_1_disk_heap.toml");
+    let model = pbdda::scene::load(&path).expect("example");
+    let (dir, world, _) = run("running_heap", model, 3);
+    assert_eq!(world.bodies.len(), 4);
+    let bodies = dir.join("bodies.csv");
+    let text = std::fs::read_to_string(&bodies).unwrap();
+    let mut lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 1 + 3 * 4, "header and 4 rows per step");
+    lines.truncate(lines.len() - 2);
+    std::fs::write(&bodies, format!("{}\n3,0.003,d", lines.join("\n"))).unwrap();
+    let table = pbdda::output::results::Table::read(&bodies).expect("partial table");
+    assert_eq!(table.rows.len(), 10, "the unfinished line is dropped");
+    assert_eq!(pbdda::output::results::pick_step(&table, None, 4).expect("a complete step"), 2);
+    let picture = render_step(&dir, None, &dir.join("scene.png"), (300, 200)).expect("render");
+    assert_eq!(decode(&picture).0, 300);
+}

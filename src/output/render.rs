@@ -76,7 +76,7 @@ pub fn render_step(
     register_fonts();
     let geometry = read_geometry(dir)?;
     let bodies = Table::read(&dir.join("bodies.csv"))?;
-    let step = pick_step(&bodies, step)?;
+    let step = pick_step(&bodies, step, geometry.len())?;
     let states = body_states(&bodies, step)?;
     let contacts: Vec<_> = contact_rows(&Table::read(&dir.join("contacts.csv"))?)?
         .into_iter()

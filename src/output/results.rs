@@ -229,15 +229,23 @@ pub fn steps_of(t: &Table) -> Result<Vec<usize>, ResultsError> {
     Ok(t.numbers("step")?.into_iter().map(|s| s as usize).collect())
 }
 
-/// The written step to show: `step`, or the last written one.
-pub fn pick_step(bodies: &Table, step: Option<usize>) -> Result<usize, ResultsError> {
+/// The written step to show: `step`, or the last one written in full (`n_bodies` rows: a
+/// running job may have written part of its current step).
+pub fn pick_step(bodies: &Table, step: Option<usize>, n_bodies: usize) -> Result<usize, ResultsError> {
     let steps = steps_of(bodies)?;
     let (first, last) = match (steps.first(), steps.last()) {
         (Some(f), Some(l)) => (*f, *l),
         _ => return Err(ResultsError::Empty { path: bodies.path.clone() }),
     };
+    let complete = |s: usize| steps.iter().filter(|&&t| t == s).count() == n_bodies;
     match step {
-        None => Ok(last),
+        None if complete(last) => Ok(last),
+        None => steps
+            .iter()
+            .rev()
+            .copied()
+            .find(|&s| s != last && complete(s))
+            .ok_or(ResultsError::Empty { path: bodies.path.clone() }),
         Some(s) if steps.contains(&s) => Ok(s),
         Some(s) => Err(ResultsError::NoStep { path: bodies.path.clone(), step: s, first, last }),
     }
