@@ -96,6 +96,9 @@ fn check_example(file: &str) {
     let err = render_step(&dir, Some(99), &dir.join("scene_99.png"), (320, 240)).expect_err("step 99");
     assert!(matches!(err, ResultsError::NoStep { step: 99, first: 1, last: 3, .. }), "{err}");
     assert_eq!(world.step_index, 3);
+    let bad = PlotOptions { bodies: vec!["no_such_body".into()], ..opts };
+    let err = plot_results(&dir, &out, &bad).expect_err("unknown body");
+    assert!(matches!(&err, ResultsError::UnknownBody { name, .. } if name == "no_such_body"), "{err}");
 }
 
 #[test]

@@ -261,6 +261,14 @@ fn contact_figures(dir: &Path, out: &Path, opts: &PlotOptions) -> Result<Vec<Pat
         }
         seen
     } else {
+        let mut known = bodies_table.text("body")?;
+        known.dedup();
+        known.sort();
+        known.dedup();
+        if let Some(name) = opts.bodies.iter().find(|b| !known.contains(b)) {
+            let (path, name, known) = (bodies_table.path.clone(), name.clone(), known.join(", "));
+            return Err(ResultsError::UnknownBody { path, name, known });
+        }
         opts.bodies.clone()
     };
     let mut written = Vec::new();

@@ -32,6 +32,8 @@ pub enum ResultsError {
     Format { path: PathBuf, line: usize, message: String },
     #[error("{path}: no step {step} was written (written steps: {first} to {last})")]
     NoStep { path: PathBuf, step: usize, first: usize, last: usize },
+    #[error("{path}: no body `{name}` (bodies: {known})")]
+    UnknownBody { path: PathBuf, name: String, known: String },
     #[error("{path}: no steps written yet")]
     Empty { path: PathBuf },
     #[error("{0}")]
