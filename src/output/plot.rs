@@ -79,13 +79,19 @@ fn range(series: &[Series], pick: fn(&(f64, f64)) -> f64) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Axis tick text: plain for moderate magnitudes, scientific otherwise.
-fn tick(v: &f64) -> String {
-    let a = v.abs();
-    if a != 0.0 && !(1e-3..1e5).contains(&a) {
-        format!("{v:.2e}")
-    } else {
-        format!("{}", (v * 1e6).round() / 1e6)
+/// Axis tick text for an axis spanning `lo..hi`: plain for moderate magnitudes, scientific
+/// for all ticks of an axis with large or tiny values.
+fn ticker(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
+    let m = lo.abs().max(hi.abs());
+    let scientific = !(1e-3..1e5).contains(&m);
+    move |v: &f64| {
+        if *v == 0.0 {
+            "0".to_string()
+        } else if scientific {
+            format!("{v:.2e}")
+        } else {
+            format!("{}", (v * 1e6).round() / 1e6)
+        }
     }
 }
 
@@ -106,8 +112,8 @@ where
         .x_desc(panel.x_label.as_str())
         .y_desc(panel.y_label.as_str())
         .label_style(("sans-serif", 14))
-        .x_label_formatter(&tick)
-        .y_label_formatter(&tick)
+        .x_label_formatter(&ticker(x0, x1))
+        .y_label_formatter(&ticker(y0, y1))
         .draw()?;
     for (i, (name, points)) in panel.series.iter().enumerate() {
         let color = Palette99::pick(i).to_rgba();
