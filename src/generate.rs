@@ -93,7 +93,7 @@ impl DiskPile {
             loads: vec![],
             connectors: vec![],
             monitors: vec![],
-            output: OutputSettings { every: 1 },
+            output: OutputSettings { every: 1, vtk: true },
         }
     }
 }

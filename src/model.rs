@@ -273,4 +273,6 @@ pub struct Monitor {
 pub struct OutputSettings {
     /// Write every N-th step (the last step is always written).
     pub every: usize,
+    /// Write the ParaView time series `DIR/vtk/` (default true).
+    pub vtk: bool,
 }

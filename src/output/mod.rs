@@ -1,3 +1,8 @@
-//! Result writers. CSV now (the output contract of the scene format); VTK and plots later.
+//! Result writers and readers: the CSVs of the output contract, the ParaView time series,
+//! plots and scene pictures.
 
 pub mod csv;
+pub mod plot;
+pub mod render;
+pub mod results;
+pub mod vtk;

@@ -223,7 +223,7 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
 }
 
 fn output(o: &raw::Output) -> Check<OutputSettings> {
-    Ok(OutputSettings { every: or_default(&o.every, "every", count, 1)? })
+    Ok(OutputSettings { every: or_default(&o.every, "every", count, 1)?, vtk: o.vtk.unwrap_or(true) })
 }
 
 // ---------------------------------------------------------------- materials and interfaces

@@ -164,4 +164,5 @@ pub(super) struct Monitor {
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct Output {
     pub every: Option<Spanned<i64>>,
+    pub vtk: Option<bool>,
 }

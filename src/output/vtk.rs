@@ -1,0 +1,411 @@
+//! ParaView output of the scene format's output contract: `DIR/vtk/scene.pvd`, a time series
+//! indexing one XML UnstructuredGrid `step_NNNNNN.vtu` per written step (the steps the CSVs
+//! write: every N-th and the last).
+//!
+//! Written with `vtkio` (XML, inline base64 binary, no compression). The `.pvd` collection is
+//! a few lines of XML that vtkio does not model; it is written by hand, to a temporary file
+//! renamed over the old one after every step, so it is always a valid index of the steps on
+//! disk.
+//!
+//! Cells of one step, in this order:
+//! - one cell per body: a disk is a 64-gon (`VTK_POLYGON`, display only), a ring a closed
+//!   triangle strip (`VTK_TRIANGLE_STRIP`) between its 64-gon outer and inner circles (VTK
+//!   polygons have no holes; a strip keeps one cell per body), a polygon its current vertices;
+//! - one line (`VTK_LINE`) per contact, joining the two bodies' sides of the contact: the
+//!   contact point C (midpoint of the two surface points) ± gap/2 along the normal, first the
+//!   side of body B (C − g/2 n), then the side of body A (C + g/2 n), since n points into A;
+//! - the hooks [`add_lines`] (connectors) and [`add_mesh`] (mesh triangles) add their cells.
+//!
+//! Cell data (units as in the CSVs): `body` (index; body A for a contact, B in `body_b`),
+//! `body_b` (−1 for bodies), `kind`, `velocity` (vx, vy, 0), `angular_velocity`, `rotation`,
+//! `stress` and `strain` (xx, yy, xy; zero for rigid bodies and lines), `normal_force`,
+//! `shear_force`, `axial_force` (zero where they do not apply) and `state`. Codes:
+//!
+//! | array | code |
+//! |---|---|
+//! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB contact, 20 connector, 30 mesh triangle |
+//! | `state` | −1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken connector |
+//!
+//! The legend is repeated as a comment in `scene.pvd`.
+
+use super::csv::OutputError;
+use crate::body::{Body, Outline};
+use crate::contact::ContactKind;
+use crate::geometry::Vec2;
+use crate::world::{ContactState, StepRecord, World};
+use std::fs::{self, File};
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, IOBuffer, UnstructuredGridPiece, Version,
+    VertexNumbers, Vtk,
+};
+
+/// Segments of the display polygon of a disk or ring circle.
+pub const CIRCLE_SEGMENTS: usize = 64;
+
+/// Legend of the `kind` and `state` codes (also written into `scene.pvd`).
+pub const LEGEND: &str = "kind: 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB contact, \
+20 connector, 30 mesh triangle; state: -1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken";
+
+/// `kind` code of a body.
+pub fn body_kind(b: &Body) -> i32 {
+    if b.fixed {
+        2
+    } else if b.deformable {
+        1
+    } else {
+        0
+    }
+}
+
+/// `kind` code of a contact.
+pub fn contact_kind(k: ContactKind) -> i32 {
+    match k {
+        ContactKind::PP => 10,
+        ContactKind::PB => 11,
+        ContactKind::BB => 12,
+    }
+}
+
+/// `state` code of a contact.
+pub fn state_code(s: ContactState) -> i32 {
+    match s {
+        ContactState::Open => 0,
+        ContactState::Stick => 1,
+        ContactState::Slide => 2,
+        ContactState::Bonded => 3,
+    }
+}
+
+/// Values of one cell; fields that do not apply to the cell stay zero.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CellValues {
+    pub body: i32,
+    pub body_b: i32,
+    pub kind: i32,
+    pub state: i32,
+    pub velocity: [f64; 2],
+    pub angular_velocity: f64,
+    pub rotation: f64,
+    pub stress: [f64; 3],
+    pub strain: [f64; 3],
+    pub normal_force: f64,
+    pub shear_force: f64,
+    pub axial_force: f64,
+}
+
+/// A line cell for [`add_lines`] (connectors): end points and the values of the line
+/// (`axial_force` tension-positive, `state` 4 intact or 5 broken, `kind` 20).
+#[derive(Debug, Clone, Copy)]
+pub struct LineCell {
+    pub a: Vec2,
+    pub b: Vec2,
+    pub values: CellValues,
+}
+
+/// Mesh cells for [`add_mesh`]: nodes (current positions) with their displacement, and
+/// triangles with their stress and strain.
+#[derive(Debug, Clone, Default)]
+pub struct MeshCells {
+    pub body: i32,
+    pub nodes: Vec<Vec2>,
+    pub displacement: Vec<Vec2>,
+    pub triangles: Vec<[usize; 3]>,
+    pub stress: Vec<[f64; 3]>,
+    pub strain: Vec<[f64; 3]>,
+}
+
+/// One step's unstructured grid under construction.
+#[derive(Debug, Default)]
+pub struct Grid {
+    points: Vec<f64>,
+    connectivity: Vec<u64>,
+    offsets: Vec<u64>,
+    types: Vec<CellType>,
+    cells: Vec<CellValues>,
+    /// Point displacement, filled for every point only once a mesh is added.
+    displacement: Option<Vec<f64>>,
+}
+
+impl Grid {
+    fn point(&mut self, p: Vec2) -> u64 {
+        let id = (self.points.len() / 3) as u64;
+        self.points.extend_from_slice(&[p.x, p.y, 0.0]);
+        if let Some(d) = &mut self.displacement {
+            d.extend_from_slice(&[0.0; 3]);
+        }
+        id
+    }
+
+    fn cell(&mut self, ids: impl IntoIterator<Item = u64>, ty: CellType, values: CellValues) {
+        self.connectivity.extend(ids);
+        self.offsets.push(self.connectivity.len() as u64);
+        self.types.push(ty);
+        self.cells.push(values);
+    }
+
+    pub fn num_cells(&self) -> usize {
+        self.cells.len()
+    }
+
+    pub fn num_points(&self) -> usize {
+        self.points.len() / 3
+    }
+}
+
+/// Display points of a circle: `CIRCLE_SEGMENTS` vertices, the first at angle `phase`.
+/// Their mean is the centre (to rounding).
+pub fn circle_points(center: Vec2, radius: f64, phase: f64) -> Vec<Vec2> {
+    (0..CIRCLE_SEGMENTS)
+        .map(|k| {
+            let a = phase + std::f64::consts::TAU * k as f64 / CIRCLE_SEGMENTS as f64;
+            center + Vec2::new(a.cos(), a.sin()) * radius
+        })
+        .collect()
+}
+
+/// Body cells: one per body (see the module notes for the shapes).
+pub fn add_bodies(grid: &mut Grid, world: &World) {
+    for (i, b) in world.bodies.iter().enumerate() {
+        let v = &b.velocity;
+        let mut values = CellValues {
+            body: i as i32,
+            body_b: -1,
+            kind: body_kind(b),
+            state: -1,
+            velocity: [v[0], v[1]],
+            angular_velocity: v[2],
+            rotation: b.rotation,
+            ..CellValues::default()
+        };
+        if b.deformable {
+            values.stress = [b.stress[0], b.stress[1], b.stress[2]];
+            values.strain = [b.strain[0], b.strain[1], b.strain[2]];
+        }
+        match &b.outline {
+            Outline::Disk { radius } => {
+                let ids: Vec<u64> = circle_points(b.centroid, *radius, b.rotation)
+                    .into_iter()
+                    .map(|p| grid.point(p))
+                    .collect();
+                grid.cell(ids, CellType::Polygon, values);
+            }
+            Outline::Ring { outer, inner } => {
+                let o: Vec<u64> = circle_points(b.centroid, *outer, b.rotation)
+                    .into_iter()
+                    .map(|p| grid.point(p))
+                    .collect();
+                let n: Vec<u64> = circle_points(b.centroid, *inner, b.rotation)
+                    .into_iter()
+                    .map(|p| grid.point(p))
+                    .collect();
+                // outer/inner alternating, closed by repeating the first pair
+                let strip = (0..=CIRCLE_SEGMENTS).flat_map(|k| {
+                    let k = k % CIRCLE_SEGMENTS;
+                    [o[k], n[k]]
+                });
+                grid.cell(strip.collect::<Vec<_>>(), CellType::TriangleStrip, values);
+            }
+            Outline::Polygon { vertices, .. } => {
+                let ids: Vec<u64> = vertices.iter().map(|p| grid.point(*p)).collect();
+                grid.cell(ids, CellType::Polygon, values);
+            }
+        }
+    }
+}
+
+/// Contact lines: B's side C − g/2 n to A's side C + g/2 n (n points into A).
+pub fn add_contacts(grid: &mut Grid, rec: &StepRecord) {
+    for c in &rec.contacts {
+        let half = c.normal * (0.5 * c.gap);
+        let ids = [grid.point(c.point - half), grid.point(c.point + half)];
+        let values = CellValues {
+            body: c.body_a as i32,
+            body_b: c.body_b as i32,
+            kind: contact_kind(c.kind),
+            state: state_code(c.state),
+            normal_force: c.normal_force,
+            shear_force: c.shear_force,
+            ..CellValues::default()
+        };
+        grid.cell(ids, CellType::Line, values);
+    }
+}
+
+/// Hook for connectors: one line cell per segment, with its values (`axial_force`, `state`).
+pub fn add_lines(grid: &mut Grid, lines: &[LineCell]) {
+    for l in lines {
+        let ids = [grid.point(l.a), grid.point(l.b)];
+        grid.cell(ids, CellType::Line, l.values);
+    }
+}
+
+/// Hook for mesh bodies: triangles (`kind` 30) with stress and strain as cell data, nodes with
+/// `displacement` as point data (zero at the points of other cells).
+pub fn add_mesh(grid: &mut Grid, mesh: &MeshCells) {
+    if grid.displacement.is_none() {
+        grid.displacement = Some(vec![0.0; grid.points.len()]);
+    }
+    let first = grid.num_points() as u64;
+    for (k, p) in mesh.nodes.iter().enumerate() {
+        grid.point(*p);
+        let u = mesh.displacement.get(k).copied().unwrap_or_else(Vec2::zeros);
+        if let Some(d) = &mut grid.displacement {
+            let n = d.len();
+            d[n - 3] = u.x;
+            d[n - 2] = u.y;
+        }
+    }
+    for (t, tri) in mesh.triangles.iter().enumerate() {
+        let values = CellValues {
+            body: mesh.body,
+            body_b: -1,
+            kind: 30,
+            state: -1,
+            stress: mesh.stress.get(t).copied().unwrap_or_default(),
+            strain: mesh.strain.get(t).copied().unwrap_or_default(),
+            ..CellValues::default()
+        };
+        grid.cell(tri.iter().map(|&i| first + i as u64), CellType::Triangle, values);
+    }
+}
+
+impl Grid {
+    /// The grid as a vtkio data set.
+    pub fn into_vtk(self, title: &str) -> Vtk {
+        let c = &self.cells;
+        let ints = |f: fn(&CellValues) -> i32| IOBuffer::I32(c.iter().map(f).collect());
+        let reals = |f: fn(&CellValues) -> f64| IOBuffer::F64(c.iter().map(f).collect());
+        let triple = |f: fn(&CellValues) -> [f64; 3]| IOBuffer::F64(c.iter().flat_map(f).collect());
+        let cell = vec![
+            Attribute::scalars("body", 1).with_data(ints(|v| v.body)),
+            Attribute::scalars("body_b", 1).with_data(ints(|v| v.body_b)),
+            Attribute::scalars("kind", 1).with_data(ints(|v| v.kind)),
+            Attribute::scalars("state", 1).with_data(ints(|v| v.state)),
+            Attribute::vectors("velocity").with_data(triple(|v| [v.velocity[0], v.velocity[1], 0.0])),
+            Attribute::scalars("angular_velocity", 1).with_data(reals(|v| v.angular_velocity)),
+            Attribute::scalars("rotation", 1).with_data(reals(|v| v.rotation)),
+            Attribute::generic("stress", 3).with_data(triple(|v| v.stress)),
+            Attribute::generic("strain", 3).with_data(triple(|v| v.strain)),
+            Attribute::scalars("normal_force", 1).with_data(reals(|v| v.normal_force)),
+            Attribute::scalars("shear_force", 1).with_data(reals(|v| v.shear_force)),
+            Attribute::scalars("axial_force", 1).with_data(reals(|v| v.axial_force)),
+        ];
+        let point = match self.displacement {
+            Some(d) => vec![Attribute::vectors("displacement").with_data(IOBuffer::F64(d))],
+            None => Vec::new(),
+        };
+        let piece = UnstructuredGridPiece {
+            points: IOBuffer::F64(self.points),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML { connectivity: self.connectivity, offsets: self.offsets },
+                types: self.types,
+            },
+            data: Attributes { point, cell },
+        };
+        Vtk {
+            version: Version::new_xml(1, 0),
+            title: title.to_string(),
+            byte_order: ByteOrder::LittleEndian,
+            data: DataSet::inline(piece),
+            file_path: None,
+        }
+    }
+}
+
+/// The grid of a step: bodies, then contact lines.
+pub fn step_grid(world: &World, rec: &StepRecord) -> Grid {
+    let mut grid = Grid::default();
+    add_bodies(&mut grid, world);
+    add_contacts(&mut grid, rec);
+    grid
+}
+
+/// Writes `DIR/vtk/` as the run goes.
+pub struct VtkWriter {
+    dir: PathBuf,
+    every: usize,
+    last_step: usize,
+    /// (time, file name) of the written steps.
+    written: Vec<(f64, String)>,
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io { path: path.to_path_buf(), source }
+}
+
+impl VtkWriter {
+    /// Creates `DIR/vtk/` and removes the `.vtu`/`.pvd` files of an earlier run in it (call
+    /// after [`super::csv::CsvWriter::create`], which refuses to mix runs unless told to
+    /// overwrite). Writes the empty time series.
+    pub fn create(dir: &Path, world: &World) -> Result<VtkWriter, OutputError> {
+        let dir = dir.join("vtk");
+        fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+        for entry in fs::read_dir(&dir).map_err(io_err(&dir))? {
+            let path = entry.map_err(io_err(&dir))?.path();
+            let ours = path.extension().is_some_and(|e| e == "vtu" || e == "pvd" || e == "tmp");
+            if ours {
+                fs::remove_file(&path).map_err(io_err(&path))?;
+            }
+        }
+        let out = &world.model.output;
+        let w =
+            VtkWriter { dir, every: out.every.max(1), last_step: world.model.time.steps, written: vec![] };
+        w.write_pvd()?;
+        Ok(w)
+    }
+
+    /// Path of the time series file.
+    pub fn pvd_path(&self) -> PathBuf {
+        self.dir.join("scene.pvd")
+    }
+
+    /// Writes the step's `.vtu` on every N-th and the last step (as the CSVs), then the
+    /// updated `.pvd`.
+    pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
+        let s = rec.step;
+        if !s.is_multiple_of(self.every) && s != self.last_step {
+            return Ok(());
+        }
+        let grid = step_grid(world, rec);
+        let name = format!("step_{s:06}.vtu");
+        let title = format!("{} step {s} t = {}", world.model.name, rec.time);
+        self.write_vtu(grid.into_vtk(&title), &name)?;
+        self.written.push((rec.time, name));
+        self.write_pvd()
+    }
+
+    fn write_vtu(&self, vtk: Vtk, name: &str) -> Result<(), OutputError> {
+        let path = self.dir.join(name);
+        let tmp = self.dir.join(format!("{name}.tmp"));
+        let file = File::create(&tmp).map_err(io_err(&tmp))?;
+        let mut w = BufWriter::new(file);
+        vtk.write_xml(&mut w).map_err(|e| OutputError::Io {
+            path: path.clone(),
+            source: std::io::Error::other(format!("VTK writer: {e}")),
+        })?;
+        w.flush().map_err(io_err(&tmp))?;
+        fs::rename(&tmp, &path).map_err(io_err(&path))
+    }
+
+    /// The collection file, written to a temporary file and renamed (atomic on one file
+    /// system), so a reader never sees a half-written index.
+    fn write_pvd(&self) -> Result<(), OutputError> {
+        let path = self.pvd_path();
+        let tmp = self.dir.join("scene.pvd.tmp");
+        let mut text = String::from("<?xml version=\"1.0\"?>\n");
+        text.push_str(&format!("<!-- pbdda time series; {LEGEND} -->\n"));
+        text.push_str("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
+        text.push_str("  <Collection>\n");
+        for (t, name) in &self.written {
+            text.push_str(&format!(
+                "    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{name}\"/>\n",
+                super::csv::Num(*t)
+            ));
+        }
+        text.push_str("  </Collection>\n</VTKFile>\n");
+        fs::write(&tmp, text).map_err(io_err(&tmp))?;
+        fs::rename(&tmp, &path).map_err(io_err(&path))
+    }
+}

@@ -1,0 +1,380 @@
+//! ParaView output (scene-format "Outputs", VTK data table): short runs of the paper examples
+//! write `vtk/scene.pvd` and one `.vtu` per written step; each file is read back with vtkio's
+//! XML reader and compared with the CSVs written in the same run.
+//!
+//! Where the expected numbers come from:
+//! - cell and point counts: the contract (one cell per body, one line per contact row of
+//!   contacts.csv at that step) and the display tessellation (64-gon disks, rings as a strip
+//!   of 2 × 64 points, polygons by their vertex count in the scene);
+//! - values: the CSV columns of the same step, parsed back. Both files are written from the
+//!   same f64 (CSV in shortest round-trip form, VTK as binary f64), so they must agree
+//!   exactly;
+//! - a disk's display 64-gon is symmetric about its centre: the mean of its vertices is the
+//!   centroid to rounding (1e-12 relative is a few hundred ulps of 64 additions);
+//! - contact lines join the two bodies' sides: in the static §7.1 heap (the bodies stay put
+//!   to 1e-9 m, tests/paper_7_1_disk_heap.rs) each end of a disk–disk line lies on its
+//!   disk's circle, |end − centre| = R to 1e-8 m (motion plus the solver's gap accuracy).
+
+use pbdda::geometry::{Vec2, polygon_moments};
+use pbdda::model::Model;
+use pbdda::output::csv::CsvWriter;
+use pbdda::output::results::{Table, write_geometry};
+use pbdda::output::vtk::VtkWriter;
+use pbdda::world::World;
+use std::path::{Path, PathBuf};
+use vtkio::model::{Attribute, CellType, DataSet, Piece, VertexNumbers, Vtk};
+
+fn example(name: &str) -> Model {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
+    pbdda::scene::load(&path).unwrap_or_else(|e| panic!("example {name} does not load: {e}"))
+}
+
+/// Runs `steps` steps of an example, writing CSVs, geometry and VTK as `pbdda run` does.
+fn run(name: &str, steps: usize, every: usize) -> (PathBuf, World) {
+    run_model(name, example(name), steps, every)
+}
+
+fn run_model(name: &str, mut model: Model, steps: usize, every: usize) -> (PathBuf, World) {
+    model.time.steps = steps;
+    model.output.every = every;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("vtk_{name}"));
+    let mut world = World::new(model);
+    let mut csv = CsvWriter::create(&dir, every, steps, true).expect("csv writer");
+    write_geometry(&dir, &world).expect("geometry");
+    let mut vtk = VtkWriter::create(&dir, &world).expect("vtk writer");
+    for _ in 0..steps {
+        let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
+        csv.write_step(&world, &rec).expect("csv step");
+        vtk.write_step(&world, &rec).expect("vtk step");
+    }
+    (dir, world)
+}
+
+/// One read-back step: points, cells (point ids), types and named cell arrays.
+struct Step {
+    points: Vec<Vec2>,
+    cells: Vec<Vec<usize>>,
+    types: Vec<CellType>,
+    arrays: Vec<(String, Vec<f64>)>,
+}
+
+impl Step {
+    fn read(path: &Path) -> Step {
+        let vtk = Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
+        let Some(Piece::Inline(piece)) = pieces.into_iter().next() else { panic!("no inline piece") };
+        let p: Vec<f64> = piece.points.cast_into().expect("f64 points");
+        let points = p.chunks(3).map(|c| Vec2::new(c[0], c[1])).collect();
+        let cells = match piece.cells.cell_verts {
+            VertexNumbers::XML { connectivity, offsets } => {
+                let mut start = 0;
+                offsets
+                    .iter()
+                    .map(|&end| {
+                        let c =
+                            connectivity[start as usize..end as usize].iter().map(|&i| i as usize).collect();
+                        start = end;
+                        c
+                    })
+                    .collect()
+            }
+            VertexNumbers::Legacy { vertices, .. } => {
+                let mut out = Vec::new();
+                let mut i = 0;
+                while i < vertices.len() {
+                    let n = vertices[i] as usize;
+                    out.push(vertices[i + 1..=i + n].iter().map(|&v| v as usize).collect());
+                    i += n + 1;
+                }
+                out
+            }
+        };
+        let arrays = piece
+            .data
+            .cell
+            .into_iter()
+            .map(|a| match a {
+                Attribute::DataArray(d) => (d.name, d.data.cast_into::<f64>().expect("numeric array")),
+                Attribute::Field { name, .. } => panic!("unexpected field data {name}"),
+            })
+            .collect();
+        Step { points, cells, types: piece.cells.types, arrays }
+    }
+
+    fn array(&self, name: &str) -> &[f64] {
+        &self.arrays.iter().find(|(n, _)| n == name).unwrap_or_else(|| panic!("no cell array `{name}`")).1
+    }
+}
+
+/// Rows of a CSV table at one step, as (column -> text) lookups.
+fn rows_at(t: &Table, step: usize) -> Vec<Vec<String>> {
+    let s = t.col("step").expect("step column");
+    t.rows.iter().filter(|(_, r)| r[s] == step.to_string()).map(|(_, r)| r.clone()).collect()
+}
+
+fn num(t: &Table, row: &[String], key: &str) -> f64 {
+    let c = t.col(key).expect("column");
+    if row[c].is_empty() { 0.0 } else { row[c].parse().expect("number") }
+}
+
+/// Checks every written step of a run against its CSVs; returns the steps checked.
+fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
+    let pvd = std::fs::read_to_string(dir.join("vtk/scene.pvd")).expect("scene.pvd");
+    let bodies = Table::read(&dir.join("bodies.csv")).expect("bodies.csv");
+    let contacts = Table::read(&dir.join("contacts.csv")).expect("contacts.csv");
+    let listed = pvd.matches("<DataSet ").count();
+    assert_eq!(listed, written.len(), "scene.pvd lists the written steps:\n{pvd}");
+    let mut out = Vec::new();
+    for &s in written {
+        let (b, c) = (rows_at(&bodies, s), rows_at(&contacts, s));
+        let time = &b[0][bodies.col("time").unwrap()];
+        let entry = format!("timestep=\"{time}\" group=\"\" part=\"0\" file=\"step_{s:06}.vtu\"");
+        assert!(pvd.contains(&entry), "scene.pvd has no entry `{entry}`:\n{pvd}");
+        let step = Step::read(&dir.join(format!("vtk/step_{s:06}.vtu")));
+        let nb = world.bodies.len();
+        assert_eq!(step.cells.len(), nb + c.len(), "step {s}: one cell per body and per contact");
+        let body_points: usize = world
+            .bodies
+            .iter()
+            .map(|b| match &b.outline {
+                pbdda::body::Outline::Disk { .. } => 64,
+                pbdda::body::Outline::Ring { .. } => 128,
+                pbdda::body::Outline::Polygon { vertices, .. } => vertices.len(),
+            })
+            .sum();
+        assert_eq!(step.points.len(), body_points + 2 * c.len(), "step {s}: points");
+        for name in [
+            "body",
+            "kind",
+            "velocity",
+            "rotation",
+            "stress",
+            "strain",
+            "normal_force",
+            "shear_force",
+            "state",
+            "axial_force",
+        ] {
+            let per_cell = if ["velocity", "stress", "strain"].contains(&name) { 3 } else { 1 };
+            assert_eq!(step.array(name).len(), per_cell * step.cells.len(), "{name} has a value per cell");
+        }
+        check_bodies(&step, &bodies, &b, world, s);
+        check_contacts(&step, &contacts, &c, nb, s);
+        out.push(step);
+    }
+    out
+}
+
+fn check_bodies(step: &Step, t: &Table, rows: &[Vec<String>], world: &World, s: usize) {
+    let (vel, rot, stress, strain) =
+        (step.array("velocity"), step.array("rotation"), step.array("stress"), step.array("strain"));
+    for (i, row) in rows.iter().enumerate() {
+        let b = &world.bodies[i];
+        assert_eq!(row[t.col("body").unwrap()], b.name, "bodies.csv order is world order");
+        assert_eq!(step.array("body")[i], i as f64);
+        assert_eq!(
+            [vel[3 * i], vel[3 * i + 1]],
+            [num(t, row, "vx"), num(t, row, "vy")],
+            "{} velocity",
+            b.name
+        );
+        assert_eq!(rot[i], num(t, row, "rotation"), "{} rotation at step {s}", b.name);
+        for (k, key) in ["stress_x", "stress_y", "stress_xy"].iter().enumerate() {
+            assert_eq!(stress[3 * i + k], num(t, row, key), "{} {key}", b.name);
+        }
+        for (k, key) in ["strain_x", "strain_y", "strain_xy"].iter().enumerate() {
+            assert_eq!(strain[3 * i + k], num(t, row, key), "{} {key}", b.name);
+        }
+        let (x, y) = (num(t, row, "x"), num(t, row, "y"));
+        let pts: Vec<Vec2> = step.cells[i].iter().map(|&k| step.points[k]).collect();
+        let centre = match &b.outline {
+            pbdda::body::Outline::Polygon { .. } => {
+                assert_eq!(step.types[i], CellType::Polygon);
+                polygon_moments(&pts).centroid
+            }
+            pbdda::body::Outline::Disk { .. } => {
+                assert_eq!(step.types[i], CellType::Polygon);
+                pts.iter().sum::<Vec2>() / pts.len() as f64
+            }
+            pbdda::body::Outline::Ring { .. } => {
+                assert_eq!(step.types[i], CellType::TriangleStrip);
+                // the strip repeats its first pair to close: 130 ids over 128 points
+                assert_eq!(pts.len(), 130);
+                pts[..128].iter().sum::<Vec2>() / 128.0
+            }
+        };
+        let scale = b.reach.max(x.abs()).max(y.abs());
+        assert!(
+            (centre - Vec2::new(x, y)).norm() <= 1e-12 * scale,
+            "step {s}: {} cell centroid {centre:?} vs bodies.csv ({x}, {y})",
+            b.name
+        );
+    }
+}
+
+fn check_contacts(step: &Step, t: &Table, rows: &[Vec<String>], nb: usize, s: usize) {
+    let (pn, pt, state) = (step.array("normal_force"), step.array("shear_force"), step.array("state"));
+    let codes = ["open", "stick", "slide", "bonded"];
+    for (k, row) in rows.iter().enumerate() {
+        let cell = nb + k;
+        assert_eq!(step.types[cell], CellType::Line);
+        assert_eq!(pn[cell], num(t, row, "normal_force"), "step {s} contact {k} normal force");
+        assert_eq!(pt[cell], num(t, row, "shear_force"), "step {s} contact {k} shear force");
+        let st = &row[t.col("state").unwrap()];
+        assert_eq!(codes[state[cell] as usize], st, "step {s} contact {k} state");
+        let c = Vec2::new(num(t, row, "x"), num(t, row, "y"));
+        let n = Vec2::new(num(t, row, "nx"), num(t, row, "ny"));
+        let g = num(t, row, "gap");
+        let ends = [step.points[step.cells[cell][0]], step.points[step.cells[cell][1]]];
+        let scale = c.norm().max(1.0);
+        for (end, want) in ends.iter().zip([c - n * (g / 2.0), c + n * (g / 2.0)]) {
+            assert!(
+                (end - want).norm() <= 1e-12 * scale,
+                "step {s} contact {k}: end {end:?}, expected {want:?}"
+            );
+        }
+    }
+}
+
+/// Each end of every contact line lies on its disk's circle to `tol` (bodies not disks are
+/// skipped): the B end first, then the A end.
+fn check_line_ends(dir: &Path, world: &World, step: &Step, s: usize, tol: f64) -> usize {
+    let contacts = Table::read(&dir.join("contacts.csv")).unwrap();
+    let rows = rows_at(&contacts, s);
+    let nb = world.bodies.len();
+    let mut checked = 0;
+    for (k, row) in rows.iter().enumerate() {
+        let ends = [step.points[step.cells[nb + k][0]], step.points[step.cells[nb + k][1]]];
+        let names = [&row[contacts.col("body_b").unwrap()], &row[contacts.col("body_a").unwrap()]];
+        for (end, name) in ends.iter().zip(names) {
+            let b = world.bodies.iter().find(|b| &b.name == name).expect("body");
+            if let pbdda::body::Outline::Disk { radius } = b.outline {
+                let d = (end - b.centroid).norm() - radius;
+                assert!(d.abs() < tol, "contact {k}: the end on {name} is {d:e} m off its circle");
+                checked += 1;
+            }
+        }
+    }
+    checked
+}
+
+#[test]
+fn disk_heap_time_series_matches_csvs_and_lines_join_the_disks() {
+    // 5 steps, every 2nd written: steps 2, 4 and the last, 5
+    let (dir, world) = run("7_1_disk_heap.toml", 5, 2);
+    let steps = check_run(&dir, &world, &[2, 4, 5]);
+    let rows = rows_at(&Table::read(&dir.join("contacts.csv")).unwrap(), 5);
+    assert_eq!(rows.len(), 3, "the heap has three contacts (Table 1)");
+    // d1-d2 both ends, d2-d3 both ends, d3 end of d3-floor
+    assert_eq!(check_line_ends(&dir, &world, &steps[2], 5, 1e-8), 5);
+}
+
+/// An open contact with a real gap: the §7.1 heap with d1 lifted by 0.2 m (within the
+/// default contact threshold, a tenth of the 10 m radius). d1 falls from rest under g = 10:
+/// after 5 steps of 1 ms it moves 5e-5 m per step, and the line's ends (start-of-step contact
+/// point ± end-of-step gap / 2) lie on the circles to that motion; 1e-4 m tolerance, while
+/// ends swapped or misplaced would be 0.2 m off.
+#[test]
+fn open_contact_line_spans_the_gap() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_1_disk_heap.toml");
+    let text = std::fs::read_to_string(&path).expect("example");
+    assert_eq!(text.matches("center = [0.0, 50.0]").count(), 1);
+    let lifted = text.replace("center = [0.0, 50.0]", "center = [0.0, 50.2]");
+    let model = pbdda::scene::parse(&lifted, "lifted.toml").expect("lifted heap");
+    let (dir, world) = run_model("lifted_heap", model, 5, 1);
+    let steps = check_run(&dir, &world, &[1, 2, 3, 4, 5]);
+    let contacts = Table::read(&dir.join("contacts.csv")).unwrap();
+    let gap = num(&contacts, &rows_at(&contacts, 5)[2], "gap");
+    assert!((gap - 0.2).abs() < 1e-3, "d1-d2 is the third contact, open by about 0.2 m: {gap}");
+    assert_eq!(check_line_ends(&dir, &world, &steps[4], 5, 1e-4), 5);
+}
+
+#[test]
+fn ring_in_frame_time_series_matches_csvs() {
+    let (dir, world) = run("7_3_ring_in_frame.toml", 4, 1);
+    check_run(&dir, &world, &[1, 2, 3, 4]);
+}
+
+#[test]
+fn block_staircase_time_series_matches_csvs() {
+    let (dir, world) = run("7_2_block_staircase.toml", 3, 1);
+    check_run(&dir, &world, &[1, 2, 3]);
+}
+
+#[test]
+fn deformable_staircase_writes_stress_and_strain() {
+    let (dir, world) = run("7_2_block_staircase_deformable.toml", 3, 1);
+    let steps = check_run(&dir, &world, &[1, 2, 3]);
+    // the deformable blocks carry a non-zero stress after loading (else the check is empty)
+    let stress = steps[2].array("stress");
+    assert!(stress.iter().any(|s| *s != 0.0), "some deformable block is stressed");
+}
+
+#[test]
+fn pvd_is_valid_before_the_first_step() {
+    let model = example("7_1_disk_heap.toml");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("vtk_empty");
+    let world = World::new(model);
+    let w = VtkWriter::create(&dir, &world).expect("vtk writer");
+    let text = std::fs::read_to_string(w.pvd_path()).expect("pvd");
+    assert_eq!(text.matches("<DataSet ").count(), 0);
+    assert!(text.contains("<Collection>") && text.contains("</VTKFile>"));
+}
+
+/// `[output] vtk` (scene format: "vtk = true ... (default true)"): absent is true, `false` is
+/// read, and a value of the wrong type is an error naming the key and its line.
+#[test]
+fn output_vtk_key() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_1_disk_heap.toml");
+    let text = std::fs::read_to_string(&path).expect("example");
+    assert!(!text.contains("[output]"), "the example sets no [output] table");
+    let parse = |extra: &str| pbdda::scene::parse(&format!("{text}\n[output]\n{extra}\n"), "s.toml");
+    assert!(pbdda::scene::parse(&text, "s.toml").expect("example").output.vtk);
+    assert!(parse("every = 2").expect("every only").output.vtk);
+    assert!(!parse("vtk = false").expect("vtk off").output.vtk);
+    let err = parse("vtk = 1").expect_err("vtk = 1 is not a boolean").to_string();
+    let line = text.lines().count() + 3;
+    assert!(err.contains("vtk") && err.contains(&format!("s.toml:{line}")), "{err}");
+}
+
+/// The connector and mesh hooks write cells a VTK reader reads back: a square of two
+/// triangles (4 nodes, displacement as point data) and one connector line; counts and values
+/// are the ones put in.
+#[test]
+fn connector_and_mesh_hooks_write_readable_cells() {
+    use pbdda::output::vtk::{CellValues, Grid, LineCell, MeshCells, add_lines, add_mesh};
+    let mut grid = Grid::default();
+    let line =
+        CellValues { kind: 20, state: 4, axial_force: 1.5e4, body: 0, body_b: 1, ..CellValues::default() };
+    add_lines(&mut grid, &[LineCell { a: Vec2::new(0.0, 0.0), b: Vec2::new(2.0, 1.0), values: line }]);
+    let nodes = vec![Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0), Vec2::new(0.0, 1.0)];
+    let mesh = MeshCells {
+        body: 2,
+        displacement: nodes.iter().map(|p| p * 1e-3).collect(),
+        nodes,
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        stress: vec![[1.0, 2.0, 3.0], [4.0, 5.0, 6.0]],
+        strain: vec![[0.0; 3]; 2],
+    };
+    add_mesh(&mut grid, &mesh);
+    assert_eq!((grid.num_cells(), grid.num_points()), (3, 6));
+    let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hooks.vtu");
+    grid.into_vtk("hooks").export(&path).expect("export");
+    let step = Step::read(&path);
+    assert_eq!(step.cells, vec![vec![0, 1], vec![2, 3, 4], vec![2, 4, 5]]);
+    assert_eq!(step.types, vec![CellType::Line, CellType::Triangle, CellType::Triangle]);
+    assert_eq!(step.array("axial_force"), &[1.5e4, 0.0, 0.0]);
+    assert_eq!(step.array("kind"), &[20.0, 30.0, 30.0]);
+    assert_eq!(step.array("stress"), &[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+    let vtk = Vtk::import(&path).expect("import");
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("grid") };
+    let Some(Piece::Inline(piece)) = pieces.into_iter().next() else { panic!("piece") };
+    let Some(Attribute::DataArray(d)) = piece.data.point.into_iter().find(|a| a.name() == "displacement")
+    else {
+        panic!("no displacement point data")
+    };
+    let d: Vec<f64> = d.data.cast_into().expect("f64");
+    // the line's two points have none; node 2 (1, 1) moved by 1e-3 (1, 1)
+    assert_eq!(&d[..6], &[0.0; 6]);
+    assert_eq!(&d[3 * 4..3 * 5], &[1e-3, 1e-3, 0.0]);
+}
