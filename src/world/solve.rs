@@ -23,7 +23,9 @@ impl World {
             jacobi: self.settings.jacobi,
         };
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
-        let mut rule = self.bounds(&laws);
+        let rule = self.bounds(&laws);
+        let blocks: Vec<usize> =
+            laws.iter().map(|l| l.row).chain([laws.last().map_or(0, |l| l.row + l.rows())]).collect();
         let mut z1 = vec![0.0; laws.last().map_or(0, |l| l.row + l.rows())];
         for c in contacts.iter() {
             let n = c.law.rows();
@@ -35,7 +37,7 @@ impl World {
             vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         let mut warnings = Vec::new();
         let mut run = |w: &sprs::CsMat<f64>, q: &[f64], z: &mut [f64], which: &str| {
-            let r = vi::solve(&Problem { w, q }, &mut rule, z, &opts);
+            let r = vi::solve(&Problem { w, q, blocks: &blocks }, &rule, z, &opts);
             if !r.converged {
                 warnings.push(format!(
                     "step {step}: contact solver ({which}) did not converge: residual {:.3e} after {} iterations",
