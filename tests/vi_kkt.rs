@@ -6,11 +6,10 @@
 
 use nalgebra::DMatrix;
 use pbdda::vi::{
-    BoundRule, Correction, FixedBounds, Options, Problem, Report, Status, Workspace, solve, solve_with,
+    BoundRule, Correction, FixedBounds, Operator, Options, Problem, Report, Solver, Status, solve,
 };
 use proptest::prelude::*;
 use sprs::{CsMat, TriMat};
-use std::time::Instant;
 
 // ---------------------------------------------------------------------------------------
 // Helpers
@@ -227,14 +226,13 @@ struct Coulomb {
 }
 
 impl BoundRule for Coulomb {
-    fn bounds(&mut self, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
-        for k in 0..z.len() / 2 {
-            let tau = self.c + self.mu * z[2 * k].max(0.0);
-            lo[2 * k] = 0.0;
-            hi[2 * k] = f64::INFINITY;
-            lo[2 * k + 1] = -tau;
-            hi[2 * k + 1] = tau;
-        }
+    /// Block k is the pair of rows 2k, 2k + 1.
+    fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        let tau = self.c + self.mu * z[2 * k].max(0.0);
+        lo[0] = 0.0;
+        hi[0] = f64::INFINITY;
+        lo[1] = -tau;
+        hi[1] = tau;
     }
 }
 
@@ -242,10 +240,10 @@ impl BoundRule for Coulomb {
 /// itself (the QVI fixed point). Tolerances as in [`check_kkt`], plus a slack of
 /// eps (1 + max|bound|) on the box: the solver stops when the box moved by at most
 /// eps max(1, max|finite bound|) between its last two passes (math note §4.3).
-fn check_coulomb(w: &DMatrix<f64>, q: &[f64], rule: &mut Coulomb, z: &[f64], eps: f64) -> Result<(), String> {
+fn check_coulomb(w: &DMatrix<f64>, q: &[f64], rule: &Coulomb, z: &[f64], eps: f64) -> Result<(), String> {
     let m = z.len();
     let (mut lo, mut hi) = (vec![0.0; m], vec![0.0; m]);
-    rule.bounds(z, &mut lo, &mut hi);
+    rule.all_bounds(&pairs(m), z, &mut lo, &mut hi);
     let bmax = hi.iter().copied().filter(|h| h.is_finite()).fold(0.0, f64::max);
     check_kkt_slack(w, q, &lo, &hi, z, eps, eps * (1.0 + bmax))
 }
@@ -301,10 +299,29 @@ fn disk_row(rng: &mut Rng) -> (DMatrix<f64>, Vec<f64>) {
     ((&w + w.transpose()) * 0.5, q)
 }
 
-fn run(w: &CsMat<f64>, q: &[f64], rule: &mut dyn BoundRule, o: &Options) -> (Report, Vec<f64>, Workspace) {
-    let mut ws = Workspace::new();
+/// One block per row (the blocks of a [`FixedBounds`] problem do not matter).
+fn singles(m: usize) -> Vec<usize> {
+    (0..=m).collect()
+}
+
+/// Blocks of two rows (normal, tangent): the contacts of a [`Coulomb`] problem.
+fn pairs(m: usize) -> Vec<usize> {
+    (0..=m / 2).map(|k| 2 * k).collect()
+}
+
+/// Solves from a zero warm start with a fresh [`Solver`]; blocks `singles` for
+/// [`FixedBounds`], `pairs` otherwise.
+fn run(
+    w: &dyn Operator,
+    q: &[f64],
+    rule: &dyn BoundRule,
+    o: &Options,
+    fixed: bool,
+) -> (Report, Vec<f64>, Solver) {
+    let mut ws = Solver::new();
     let mut z = vec![0.0; q.len()];
-    let rep = solve_with(&mut ws, &Problem { w, q }, rule, &mut z, o);
+    let blocks = if fixed { singles(q.len()) } else { pairs(q.len()) };
+    let rep = ws.solve(&Problem { w, q, blocks: &blocks }, rule, &mut z, o);
     (rep, z, ws)
 }
 
@@ -349,8 +366,8 @@ proptest! {
         } else {
             vec![0.0; m]
         };
-        let mut rule = FixedBounds { lo: c.lo.clone(), hi: c.hi.clone() };
-        let rep = solve(&Problem { w: &wc, q: &c.q }, &mut rule, &mut z, &opts(eps, jacobi));
+        let rule = FixedBounds { lo: c.lo.clone(), hi: c.hi.clone() };
+        let rep = solve(&Problem { w: &wc, q: &c.q, blocks: &singles(m) }, &rule, &mut z, &opts(eps, jacobi));
         prop_assert!(rep.converged, "{rep:?}");
         prop_assert!(rep.residual <= eps);
         if let Err(e) = check_kkt(&w, &c.q, &c.lo, &c.hi, &z, eps) {
@@ -379,7 +396,7 @@ proptest! {
         let c = constructed_vi(&mut rng, &w, 1.0);
         let mut o = opts(1e-10, jacobi);
         o.max_iterations = 20_000;
-        let (rep, z, ws) = run(&to_csr(&w), &c.q, &mut FixedBounds { lo: c.lo.clone(), hi: c.hi.clone() }, &o);
+        let (rep, z, ws) = run(&to_csr(&w), &c.q, &FixedBounds { lo: c.lo.clone(), hi: c.hi.clone() }, &o, true);
         prop_assert!(z.iter().all(|v| v.is_finite()));
         prop_assert!(rep.converged == (ws.stats().status == Status::Converged));
         prop_assert!(!rep.converged || rep.residual <= 1e-10);
@@ -407,9 +424,9 @@ proptest! {
         let c = if cohesive { rng.unit() * 0.5 * q[0].abs() / w[(0, 0)] } else { 0.0 };
         let mut o = opts(eps, jacobi);
         o.max_outer = 1000;
-        let (rep, z, _) = run(&to_csr(&w), &q, &mut Coulomb { mu, c }, &o);
+        let (rep, z, _) = run(&to_csr(&w), &q, &Coulomb { mu, c }, &o, false);
         prop_assert!(rep.converged, "{rep:?}");
-        if let Err(e) = check_coulomb(&w, &q, &mut Coulomb { mu, c }, &z, eps) {
+        if let Err(e) = check_coulomb(&w, &q, &Coulomb { mu, c }, &z, eps) {
             return Err(TestCaseError::fail(e));
         }
     }
@@ -462,7 +479,7 @@ fn jacobi_on_off_same_wz_badly_scaled() {
     let mut out = Vec::new();
     for jacobi in [true, false] {
         let (rep, z, ws) =
-            run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, jacobi));
+            run(&wc, &q, &FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, jacobi), true);
         println!("jacobi={jacobi}: {rep:?} {:?}\n  z = {z:?}", ws.stats());
         assert!(rep.converged, "jacobi={jacobi}: {rep:?}");
         check_kkt(&w, &q, &lo, &hi, &z, 1e-10).unwrap();
@@ -490,24 +507,25 @@ fn jacobi_needed_for_heavy_heavy_contact() {
     let m = q.len();
     let wc = to_csr(&w);
     let (lo, hi) = (vec![0.0; m], vec![f64::INFINITY; m]);
-    let (rep, z, ws) = run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, true));
+    let (rep, z, ws) =
+        run(&wc, &q, &FixedBounds { lo: lo.clone(), hi: hi.clone() }, &opts(1e-10, true), true);
     println!("jacobi: {rep:?} {:?}", ws.stats());
     assert!(rep.converged);
     check_kkt(&w, &q, &lo, &hi, &z, 1e-10).unwrap();
     assert!(z[2] > 0.0, "the heavy-heavy row carries force");
     let mut o = opts(1e-10, false);
     o.max_iterations = 20_000;
-    let (rep, z, ws) = run(&wc, &q, &mut FixedBounds { lo: lo.clone(), hi: hi.clone() }, &o);
+    let (rep, z, ws) = run(&wc, &q, &FixedBounds { lo: lo.clone(), hi: hi.clone() }, &o, true);
     println!("no jacobi: {rep:?} {:?}", ws.stats());
     assert!(!rep.converged && ws.stats().status == Status::IterationLimit);
     assert!(z.iter().zip(&lo).all(|(z, l)| z.is_finite() && z >= l));
 }
 
 // ---------------------------------------------------------------------------------------
-// Measurements: correction step, timing (numbers quoted in src/vi.rs)
+// Larger problems: correction step, parallel sweeps, matrix-free operator
 // ---------------------------------------------------------------------------------------
 
-/// 2-D contact network for timing: rigid disks on an nx×ny grid (unit spacing, radius 0.5,
+/// 2-D contact network (the same as in `benches/vi.rs`): rigid disks on an nx×ny grid (unit spacing, radius 0.5,
 /// random masses 0.5..2, J = m/8), contacts with the right and upper neighbours and with
 /// the floor, (normal, tangent) rows, W = B (dt²/2) M⁻¹ Bᵀ assembled sparse (about 14
 /// nonzeros per row), q = B d^f with d^f = dt v + dt²/2 g (math note §1.2), random
@@ -576,19 +594,18 @@ fn frictionless(m: usize) -> FixedBounds {
 
 /// Extragradient vs contraction correction (math note §4.2) on two sets: 200 random box
 /// VIs (`constructed_vi`, face condition <= 1e4) and 60 Coulomb QVIs (`disk_row`,
-/// mu = 0.3); the 10k-row grid comparison is in `timing_contact_networks`. Both must
-/// converge everywhere; the summed W-product counts are printed (quoted on
+/// mu = 0.3); the 10k-row grid comparison is in `benches/vi.rs`. Both must converge
+/// everywhere; the summed W-product counts are printed (the conclusion is stated on
 /// `pbdda::vi::Correction`). A measurement: the only expected value is convergence.
 #[test]
 fn correction_comparison() {
     let eps = 1e-10;
     for correction in [Correction::Extragradient, Correction::Contraction] {
-        let mut ws = Workspace::new();
-        ws.correction = correction;
-        let mut count = |w: &CsMat<f64>, q: &[f64], rule: &mut dyn BoundRule| {
+        let mut ws = Solver::new().with_correction(correction);
+        let mut count = |w: &CsMat<f64>, q: &[f64], rule: &dyn BoundRule, blocks: &[usize]| {
             let mut z = vec![0.0; q.len()];
             let o = Options { max_outer: 1000, ..opts(eps, true) };
-            let rep = solve_with(&mut ws, &Problem { w, q }, rule, &mut z, &o);
+            let rep = ws.solve(&Problem { w, q, blocks }, rule, &mut z, &o);
             assert!(rep.converged, "{correction:?}: {rep:?}");
             ws.stats().products
         };
@@ -602,11 +619,11 @@ fn correction_comparison() {
                 continue;
             }
             cases += 1;
-            p_box += count(&to_csr(&w), &c.q, &mut FixedBounds { lo: c.lo, hi: c.hi });
+            p_box += count(&to_csr(&w), &c.q, &FixedBounds { lo: c.lo, hi: c.hi }, &singles(m));
         }
         for seed in 0..60u64 {
             let (w, q) = disk_row(&mut Rng::new(seed));
-            p_qvi += count(&to_csr(&w), &q, &mut Coulomb { mu: 0.3, c: 0.0 });
+            p_qvi += count(&to_csr(&w), &q, &Coulomb { mu: 0.3, c: 0.0 }, &pairs(q.len()));
         }
         println!("{correction:?}: {cases} box VIs {p_box} products; 60 disk-row QVIs {p_qvi} products");
     }
@@ -622,16 +639,16 @@ fn parallel_equals_serial() {
     for qvi in [false, true] {
         let mut res = Vec::new();
         for par in [usize::MAX, 0] {
-            let mut ws = Workspace::new();
-            ws.parallel_min_rows = par;
+            let mut ws = Solver::new().with_parallel_min_rows(par);
             let mut z = vec![0.0; q.len()];
             let mut o = opts(1e-6, true);
-            let p = Problem { w: &w, q: &q };
+            let blocks = pairs(q.len());
+            let p = Problem { w: &w, q: &q, blocks: &blocks };
             let rep = if qvi {
                 o.max_iterations = 2000;
-                solve_with(&mut ws, &p, &mut Coulomb { mu: 0.3, c: 0.0 }, &mut z, &o)
+                ws.solve(&p, &Coulomb { mu: 0.3, c: 0.0 }, &mut z, &o)
             } else {
-                solve_with(&mut ws, &p, &mut frictionless(q.len()), &mut z, &o)
+                ws.solve(&p, &frictionless(q.len()), &mut z, &o)
             };
             assert_eq!(rep.converged, !qvi, "{rep:?}");
             res.push((rep, z, ws.stats()));
@@ -642,84 +659,86 @@ fn parallel_equals_serial() {
     }
 }
 
-/// Timing on the grid contact networks (run with
-/// `cargo test --release --test vi_kkt timing -- --ignored --nocapture`): 9 900 and 39 800
-/// rows; frictionless VI from a cold start, then a warm start after perturbing q by 1 %
-/// (the next time step of a slowly moving scene); Coulomb QVI (mu = 0.3) with the default
-/// options. A measurement: asserts only the frictionless convergence.
-#[test]
-#[ignore]
-fn timing_contact_networks() {
-    for (nx, ny) in [(50, 50), (100, 100)] {
-        let (w, q) = grid_network(nx, ny, 7, 0.1);
-        let m = q.len();
-        println!("grid {nx}x{ny}: {m} rows, {} nnz ({:.1}/row)", w.nnz(), w.nnz() as f64 / m as f64);
-        let mut rng = Rng::new(99);
-        let q2: Vec<f64> = q.iter().map(|v| v * (1.0 + 0.01 * rng.range(-1.0, 1.0))).collect();
-        let pars: &[usize] = if m >= 20_000 { &[usize::MAX, 20_000] } else { &[usize::MAX] };
-        for &par in pars {
-            for correction in [Correction::Extragradient, Correction::Contraction] {
-                let mut ws = Workspace::new();
-                ws.correction = correction;
-                ws.parallel_min_rows = par;
-                let o = Options { tolerance: 1e-8, ..Options::default() };
-                let mut z = vec![0.0; m];
-                let mut line = |label: &str, q: &[f64], rule: &mut dyn BoundRule, z: &mut [f64]| {
-                    let t = Instant::now();
-                    let rep = solve_with(&mut ws, &Problem { w: &w, q }, rule, z, &o);
-                    let el = t.elapsed().as_secs_f64();
-                    let st = ws.stats();
-                    println!(
-                        "  {} {correction:?} {label}: {:?} outer {} inner {} products {} res {:.1e}: {:.3} s, {:.0} us/product",
-                        if par == usize::MAX { "serial" } else { "rayon " },
-                        st.status,
-                        rep.outer_iterations,
-                        rep.inner_iterations,
-                        st.products,
-                        rep.residual,
-                        el,
-                        el * 1e6 / st.products.max(1) as f64
-                    );
-                    rep
-                };
-                assert!(line("frictionless cold", &q, &mut frictionless(m), &mut z).converged);
-                assert!(line("frictionless warm", &q2, &mut frictionless(m), &mut z).converged);
-                if correction == Correction::Extragradient {
-                    let mut z = vec![0.0; m];
-                    line("Coulomb 0.3 cold", &q, &mut Coulomb { mu: 0.3, c: 0.0 }, &mut z);
-                }
-            }
-        }
+/// W behind the trait without its CSR storage: the solver takes its matrix-free path
+/// (products through `apply`, Jacobi scaling by vectors).
+struct MatrixFree(CsMat<f64>);
+
+impl Operator for MatrixFree {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn apply(&self, z: &[f64], out: &mut [f64]) {
+        self.0.apply(z, out);
+    }
+    fn diagonal(&self, out: &mut [f64]) {
+        self.0.diagonal(out);
     }
 }
 
-/// Cost per W-product, serial vs rayon (run like `timing_contact_networks`): 300 PC
-/// iterations on the frictionless grid networks of 9 900, 39 800 and 99 000 rows, serial and
-/// parallel runs interleaved, best of 3. A measurement without a check.
-#[test]
-#[ignore]
-fn timing_products() {
-    for (nx, ny) in [(50, 50), (100, 100), (150, 165)] {
-        let (w, q) = grid_network(nx, ny, 7, 0.1);
-        let m = q.len();
-        let mut best = [f64::INFINITY; 2];
-        for _ in 0..3 {
-            for (k, par) in [usize::MAX, 0].into_iter().enumerate() {
-                let mut ws = Workspace::new();
-                ws.parallel_min_rows = par;
-                let o = Options { tolerance: 1e-14, max_iterations: 300, ..Options::default() };
-                let mut z = vec![0.0; m];
-                let t = Instant::now();
-                solve_with(&mut ws, &Problem { w: &w, q: &q }, &mut frictionless(m), &mut z, &o);
-                best[k] = best[k].min(t.elapsed().as_secs_f64() / ws.stats().products as f64);
-            }
-        }
-        println!(
-            "{m} rows, {} nnz: serial {:.0} us/product ({:.2} ns/nnz), rayon {:.0} us/product",
-            w.nnz(),
-            best[0] * 1e6,
-            best[0] * 1e9 / w.nnz() as f64,
-            best[1] * 1e6
-        );
+/// Dense copy of a sparse W (for the independent checks).
+fn dense(w: &CsMat<f64>) -> DMatrix<f64> {
+    let mut d = DMatrix::zeros(w.rows(), w.cols());
+    for (v, (i, j)) in w.iter() {
+        d[(i, j)] += *v;
     }
+    d
+}
+
+/// The matrix-free path (`MatrixFree`: `apply` + `diagonal`, Jacobi scaling by vectors) must
+/// solve the same problems as the CSR path, on the families of this file: 100 random box
+/// VIs (`constructed_vi`, face condition <= 1e4, Jacobi on and off), 60 three-disk Coulomb
+/// QVIs (`disk_row`, mu in [0.05, 0.7]), the badly scaled `heavy_base` chain and a 552-row
+/// frictionless contact grid (`grid_network` 12×12).
+/// Expected: converged with residual <= eps (1e-10; 1e-8 for the grid), and the KKT
+/// conditions (`check_kkt`, `check_coulomb`, dense and independent of the solver) at eps.
+/// For the box VIs also W z_free = W z_csr within 2 (1 + κ) eps ||W||_inf Z, κ the face
+/// condition: both z pass the residual test at eps, and the error bound of an affine VI puts
+/// each within (1 + κ) eps Z of the solution set in the scaled variables, on which W z is
+/// unique (math note §3.2).
+#[test]
+fn operator_path_matches_csr() {
+    let eps = 1e-10;
+    let both = |w: &CsMat<f64>, q: &[f64], rule: &dyn BoundRule, fixed: bool, o: &Options| {
+        let (ra, za, _) = run(w, q, rule, o, fixed);
+        let (rb, zb, sb) = run(&MatrixFree(w.clone()), q, rule, o, fixed);
+        assert!(ra.converged && rb.converged && rb.residual <= o.tolerance, "{ra:?} {rb:?} {:?}", sb.stats());
+        (za, zb)
+    };
+    let mut cases = 0;
+    for seed in 0..400u64 {
+        let mut rng = Rng::new(7000 + seed);
+        let (m, n) = (1 + rng.below(30), 1 + rng.below(12));
+        let w = random_w(&mut rng, m, n, 1.0);
+        let c = constructed_vi(&mut rng, &w, 1.0);
+        let kappa = face_condition(&w, &c);
+        if cases == 100 || kappa > MAX_FACE_CONDITION {
+            continue;
+        }
+        cases += 1;
+        for jacobi in [true, false] {
+            let rule = FixedBounds { lo: c.lo.clone(), hi: c.hi.clone() };
+            let (za, zb) = both(&to_csr(&w), &c.q, &rule, true, &opts(eps, jacobi));
+            check_kkt(&w, &c.q, &c.lo, &c.hi, &zb, eps).unwrap();
+            let wd = gap(&w, &vec![0.0; m], &za.iter().zip(&zb).map(|(a, b)| a - b).collect::<Vec<_>>());
+            let zn = inf_norm(&za).max(inf_norm(&zb)).max(1.0);
+            let tol = 2.0 * (1.0 + kappa) * eps * w_norm(&w) * zn;
+            assert!(inf_norm(&wd) <= tol, "seed {seed}: |W(z_csr - z_free)| = {} > {tol}", inf_norm(&wd));
+        }
+    }
+    for seed in 0..60u64 {
+        let mut rng = Rng::new(seed);
+        let (w, q) = disk_row(&mut rng);
+        let rule = Coulomb { mu: rng.range(0.05, 0.7), c: 0.0 };
+        let (_, zb) = both(&to_csr(&w), &q, &rule, false, &Options { max_outer: 1000, ..opts(eps, true) });
+        check_coulomb(&w, &q, &rule, &zb, eps).unwrap();
+    }
+    let (w, q) = heavy_base();
+    let (lo, hi) = (vec![0.0; q.len()], vec![f64::INFINITY; q.len()]);
+    let rule = FixedBounds { lo: lo.clone(), hi: hi.clone() };
+    let (_, zb) = both(&to_csr(&w), &q, &rule, true, &opts(eps, true));
+    check_kkt(&w, &q, &lo, &hi, &zb, eps).unwrap();
+    let (w, q) = grid_network(12, 12, 3, 0.1);
+    let rule = frictionless(q.len());
+    let (_, zb) = both(&w, &q, &rule, true, &opts(1e-8, true));
+    check_kkt(&dense(&w), &q, &rule.lo, &rule.hi, &zb, 1e-8).unwrap();
 }
