@@ -186,8 +186,9 @@ pub struct Report {
 
 /// The correction step of the PC method (math note §4.2). The extragradient-type step needed
 /// fewer W-products than the contraction step on every set measured (random box VIs,
-/// three-disk Coulomb QVIs, a 10k-row contact grid cold and warm started; see
-/// `benches/vi.rs`) and keeps every iterate inside the box, so it is the default.
+/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/vi_kkt.rs`,
+/// `correction_comparison`, and `benches/vi.rs`) and keeps every iterate inside the box, so
+/// it is the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Correction {
     /// z = P_Ω[z − gamma alpha beta G(zt)]: iterates stay feasible.

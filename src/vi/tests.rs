@@ -329,3 +329,133 @@ fn product_count() {
     assert!(rep.converged);
     assert_eq!(st.products, 2 * rep.inner_iterations + st.shrinks + 1, "{rep:?} {st:?}");
 }
+
+/// Inconsistent input is reported, never a panic: blocks that do not partition the rows
+/// (not starting at 0, not ending at n, decreasing), z or W of the wrong size, a non-square
+/// explicit W. Expected: converged = false, status InvalidInput, residual +inf, z untouched.
+#[test]
+fn invalid_input_is_reported() {
+    let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
+    let w3 = csr(3, &[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0]);
+    let mut rect = TriMat::new((2, 3));
+    rect.add_triplet(0, 0, 1.0);
+    rect.add_triplet(1, 2, 1.0);
+    let rect: CsMat<f64> = rect.to_csr();
+    let q = [1.0, -3.0];
+    let rule = FixedBounds { lo: vec![0.0; 2], hi: vec![INF; 2] };
+    let cases: [(&dyn Operator, &[usize], usize); 6] = [
+        (&w, &[1, 2], 2),
+        (&w, &[0, 1], 2),
+        (&w, &[0, 2, 1, 2], 2),
+        (&w, &[0, 2], 3),
+        (&w3, &[0, 2], 2),
+        (&rect, &[0, 2], 2),
+    ];
+    for (i, (op, blocks, nz)) in cases.into_iter().enumerate() {
+        let mut ws = Solver::new();
+        let mut z = vec![0.5; nz];
+        let rep = ws.solve(&Problem { w: op, q: &q, blocks }, &rule, &mut z, &Options::default());
+        assert!(!rep.converged && rep.residual == INF, "case {i}: {rep:?}");
+        assert_eq!(ws.stats().status, Status::InvalidInput, "case {i}");
+        assert_eq!(z, vec![0.5; nz]);
+    }
+}
+
+/// `Operator` for explicit matrices: W z and diag(W) of a non-symmetric 3×3 with small
+/// integer entries (so every product and sum is exact) equal the dense values bit for bit,
+/// for CSR, CSC and a view; `as_csr` of the CSC storage is Wᵀ (documented: equal to W for
+/// the symmetric matrices the solver takes).
+#[test]
+fn operator_for_sparse_matrices() {
+    let dense = [2.0, -1.0, 0.0, 3.0, 4.0, 5.0, 0.0, 6.0, -7.0];
+    let m = csr(3, &dense);
+    let z = [1.0, -2.0, 3.0];
+    let want: Vec<f64> = (0..3).map(|i| (0..3).map(|j| dense[3 * i + j] * z[j]).sum()).collect();
+    let mc = m.to_csc();
+    let ops: [&dyn Operator; 3] = [&m, &mc, &m.view()];
+    for op in ops {
+        let (mut out, mut d) = (vec![9.0; 3], vec![9.0; 3]);
+        op.apply(&z, &mut out);
+        op.diagonal(&mut d);
+        assert_eq!((op.dim(), out, d), (3, want.clone(), vec![2.0, 4.0, -7.0]));
+    }
+    let t = mc.as_csr().expect("explicit");
+    assert!(t.is_csr() && t.get(0, 1) == Some(&3.0));
+}
+
+/// Records the bound rule's calls: (block, block length).
+struct Recorder(std::cell::RefCell<Vec<(usize, usize)>>);
+impl BoundRule for Recorder {
+    fn block_bounds(&self, k: usize, _z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        self.0.borrow_mut().push((k, lo.len()));
+        lo.fill(0.0);
+        hi.fill(INF);
+    }
+}
+
+/// The outer loop asks the rule for each block in order, with the block's own slice: blocks
+/// [0, 2, 3, 6] give calls (0, 2), (1, 1), (2, 3) per pass. A plain VI takes one PC run and
+/// one confirming pass (see `warm_start_at_solution`), so exactly 2 × 3 calls, and the
+/// solution of the diagonal W = diag(1..6), q = −1 on z >= 0 is z_j = 1/j (to 1e-10:
+/// residual 1e-12).
+#[test]
+fn bound_rule_sees_blocks() {
+    let mut dense = vec![0.0; 36];
+    for j in 0..6 {
+        dense[7 * j] = (j + 1) as f64;
+    }
+    let w = csr(6, &dense);
+    let rule = Recorder(Default::default());
+    let mut z = vec![0.0; 6];
+    let p = Problem { w: &w, q: &[-1.0; 6], blocks: &[0, 2, 3, 6] };
+    let rep = solve(&p, &rule, &mut z, &opts(1e-12, true));
+    assert!(rep.converged && rep.outer_iterations == 1, "{rep:?}");
+    assert_eq!(rule.0.into_inner(), [(0, 2), (1, 1), (2, 3)].repeat(2));
+    for (j, zj) in z.iter().enumerate() {
+        assert!((zj - 1.0 / (j + 1) as f64).abs() < 1e-10, "{z:?}");
+    }
+}
+
+/// W behind the trait without its CSR storage (the matrix-free path).
+struct MatrixFree(CsMat<f64>);
+impl Operator for MatrixFree {
+    fn dim(&self) -> usize {
+        self.0.dim()
+    }
+    fn apply(&self, z: &[f64], out: &mut [f64]) {
+        self.0.apply(z, out);
+    }
+    fn diagonal(&self, out: &mut [f64]) {
+        self.0.diagonal(out);
+    }
+}
+
+/// The matrix-free path on the closed forms above: `two_by_two_active_set` (z = (0, 3/2)),
+/// `coulomb_stick_and_slide` (sliding: z = (8/9, 4/9)) and the zero row of `zero_row`
+/// (Diverged, detected from the zero diagonal), with Jacobi on and off; tolerances as there
+/// (1e-10, 1e-9). One solver is reused across both paths and sizes.
+#[test]
+fn matrix_free_closed_forms() {
+    let mut ws = Solver::new();
+    for jacobi in [true, false] {
+        let w = MatrixFree(csr(2, &[2.0, 1.0, 1.0, 2.0]));
+        let mut z = vec![0.7, -3.0];
+        let rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+        let p = Problem { w: &w, q: &[1.0, -3.0], blocks: &[0, 1, 2] };
+        assert!(ws.solve(&p, &rule, &mut z, &opts(1e-12, jacobi)).converged);
+        assert!(z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10, "{z:?}");
+
+        let w = MatrixFree(csr(2, &[2.0, 0.5, 0.5, 1.0]));
+        let mut z = vec![0.0, 0.0];
+        let p = Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+        assert!(ws.solve(&p, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
+        assert!((z[0] - 8.0 / 9.0).abs() < 1e-9 && (z[1] - 4.0 / 9.0).abs() < 1e-9, "{z:?}");
+
+        let w = MatrixFree(csr(2, &[0.0, 0.0, 0.0, 2.0]));
+        let mut z = vec![0.25, 0.5];
+        let p = Problem { w: &w, q: &[-1.0, -3.0], blocks: &[0, 1, 2] };
+        let rep = ws.solve(&p, &rule, &mut z, &Options::default());
+        assert!(!rep.converged && ws.stats().status == Status::Diverged);
+        assert_eq!(z, vec![0.25, 0.5]);
+    }
+}
