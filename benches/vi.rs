@@ -148,7 +148,8 @@ fn solve(
 
 /// Whole solves on the 20×20 grid (1 560 rows) at tolerance 1e-8: frictionless from a cold
 /// start, then warm started from that solution with q perturbed by 1 % (the next step of a
-/// slowly moving scene), for both correction steps; Coulomb (mu = 0.3) from a cold start.
+/// slowly moving scene), for both correction steps; Coulomb (mu = 0.3) from a cold start on
+/// the 10×10 grid (380 rows).
 fn solves(c: &mut Criterion) {
     let mut group = c.benchmark_group("vi_solve");
     group.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(5));
@@ -172,8 +173,12 @@ fn solves(c: &mut Criterion) {
             });
         }
     }
+    // Coulomb on a 10×10 grid (380 rows): the frictional QVI takes far more products.
+    let (w, q) = grid_network(10, 10, 7, 0.1);
+    let cold = vec![0.0; q.len()];
     let mut s = Solver::new();
-    eprintln!("coulomb_0.3_cold: {} W-products", solve(&mut s, &w, &q, &Coulomb(0.3), &cold, &o));
+    let products = solve(&mut s, &w, &q, &Coulomb(0.3), &cold, &o);
+    eprintln!("coulomb_0.3_cold: {} rows, {products} W-products", q.len());
     group.bench_function("coulomb_0.3_cold", |b| b.iter(|| solve(&mut s, &w, &q, &Coulomb(0.3), &cold, &o)));
     group.finish();
 }

@@ -305,6 +305,7 @@ impl Solver {
         let n = p.q.len();
         self.stats = Stats::default();
         let csr = p.w.as_csr();
+        let explicit = csr.is_some();
         let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
         if !p.is_consistent(z) || !csr_ok {
             return self.invalid_input();
@@ -333,7 +334,7 @@ impl Solver {
         let mut st = pc::State::new(beta0);
         let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
         let correction = self.correction;
-        let report = if p.w.as_csr().is_some() {
+        let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
             outer::solve(&pc::Ctx::new(rows, s, par, correction), &pass, &mut self.vectors, &mut st, z)
         } else {
