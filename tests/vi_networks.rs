@@ -10,7 +10,7 @@ use vi_support::*;
 
 /// Extragradient vs contraction correction (math note §4.2) on two sets: 200 random box
 /// VIs (`constructed_vi`, face condition <= 1e4) and 60 Coulomb QVIs (`disk_row`,
-/// mu = 0.3); the 10k-row grid comparison is in `benches/vi.rs`. Both must converge
+/// mu = 0.3); the contact-grid comparison is in `benches/vi.rs`. Both must converge
 /// everywhere; the summed W-product counts are printed (the conclusion is stated on
 /// `pbdda::vi::Correction`). A measurement: the only expected value is convergence.
 #[test]

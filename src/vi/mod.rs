@@ -53,12 +53,12 @@
 //! * An explicit W ([`Operator::as_csr`]) is copied once per call with the scaling folded
 //!   into its values and `u32` column indices, about the cost of one product; each sweep
 //!   then fuses its product with the vector work of the PC step (residual, projection, dot
-//!   products), so an iteration makes three passes over the rows. The hand-written row loop
-//!   (column indices checked once per call) was faster than `sprs`'s product in the
-//!   measurements of `benches/vi.rs`.
+//!   products), so an iteration makes three passes over the rows. The row loop reads the
+//!   iterate without bounds checks (the column indices are checked once, in the copy).
 //! * A matrix-free W is applied through [`Operator::apply`] with the Jacobi scaling done by
-//!   vectors around each product; its results agree with the explicit path up to round-off
-//!   (`tests/vi_kkt.rs`, `operator_path_matches_csr`).
+//!   vectors around each product (two extra passes over the rows per product); it solves
+//!   the same problems as the explicit path (`tests/vi_networks.rs`,
+//!   `operator_path_matches_csr`), and `benches/vi.rs` (group `vi_products`) times both.
 //! * [`Solver`] keeps its work storage across calls: it allocates only when a problem is
 //!   larger than every previous one, never inside the iterations.
 //! * Rows are processed in blocks of 2 048 (`par.rs`); blocks run on rayon from
@@ -186,7 +186,7 @@ pub struct Report {
 
 /// The correction step of the PC method (math note §4.2). The extragradient-type step needed
 /// fewer W-products than the contraction step on every set measured (random box VIs,
-/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/vi_kkt.rs`,
+/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/vi_networks.rs`,
 /// `correction_comparison`, and `benches/vi.rs`) and keeps every iterate inside the box, so
 /// it is the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
