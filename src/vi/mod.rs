@@ -100,9 +100,9 @@ mod tests;
 
 pub use operator::Operator;
 
-/// G(z) = q + W z, with the rows grouped in per-contact blocks:
-/// block k is rows blocks[k]..blocks[k+1] (blocks.len() = number of blocks + 1, blocks[0] = 0,
-/// last = q.len()).
+/// G(z) = q + W z, with the rows grouped in per-contact blocks: block k is rows
+/// `blocks[k]..blocks[k+1]` (`blocks.len()` = number of blocks + 1, `blocks[0] = 0`, last =
+/// `q.len()`).
 pub struct Problem<'a> {
     pub w: &'a dyn Operator,
     pub q: &'a [f64],

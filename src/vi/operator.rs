@@ -10,7 +10,7 @@ pub trait Operator: Sync {
     fn dim(&self) -> usize;
     /// out = W z (overwrites out).
     fn apply(&self, z: &[f64], out: &mut [f64]);
-    /// out[j] = W_jj.
+    /// `out[j] = W_jj`.
     fn diagonal(&self, out: &mut [f64]);
     /// The explicit CSR matrix, when there is one: the solver then uses its fused, scaled fast path.
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
