@@ -75,20 +75,20 @@ impl ContactBounds<'_> {
     }
 }
 
+/// Block k is contact k: rows normal, tangential and (if rolling) rolling, starting at
+/// `laws[k].row`; `z` is the whole iterate (joint partners read each other's forces).
 impl BoundRule for ContactBounds<'_> {
-    fn bounds(&mut self, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
-        for (k, law) in self.laws.iter().enumerate() {
-            let r = law.row;
-            lo[r] = -self.tensile_bound(k, z);
-            hi[r] = f64::INFINITY;
-            let tau = self.tangential_bound(k, z);
-            lo[r + 1] = -tau;
-            hi[r + 1] = tau;
-            if law.rolling > 0.0 {
-                let m = law.rolling * z[r].max(0.0);
-                lo[r + 2] = -m;
-                hi[r + 2] = m;
-            }
+    fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        let law = &self.laws[k];
+        lo[0] = -self.tensile_bound(k, z);
+        hi[0] = f64::INFINITY;
+        let tau = self.tangential_bound(k, z);
+        lo[1] = -tau;
+        hi[1] = tau;
+        if law.rolling > 0.0 {
+            let m = law.rolling * z[law.row].max(0.0);
+            lo[2] = -m;
+            hi[2] = m;
         }
     }
 }

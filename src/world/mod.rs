@@ -68,7 +68,7 @@ pub struct TrackedPoint {
 /// Scratch memory of the step, reused across steps; nothing in it is state.
 #[derive(Clone, Default)]
 pub struct Pipeline {
-    vi: crate::vi::Workspace,
+    vi: crate::vi::Solver,
 }
 
 /// Simulation state: bodies in their current configuration and the memory of the contacts.

@@ -64,8 +64,9 @@ struct Runner<'a> {
 impl Runner<'_> {
     fn run(&mut self, world: &World, laws: &[Law], rows: &Rows, q: &[f64], z: &mut [f64], solve: SolveKind) {
         let started = Instant::now();
-        let mut rule = world.bounds(laws);
-        let r = vi::solve_with(&mut self.pipeline.vi, &Problem { w: &rows.w, q }, &mut rule, z, &self.opts);
+        let rule = world.bounds(laws);
+        let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
+        let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
         if !r.converged {
             let (step, residual, iterations) = (self.step, r.residual, r.inner_iterations);
             self.warnings.push(Warning::NotConverged { step, solve, residual, iterations });

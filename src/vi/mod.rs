@@ -1,0 +1,357 @@
+//! Box-constrained affine variational inequality solver (math note §4). Pure mathematics:
+//! it knows nothing about bodies or contacts.
+//!
+//! Find z in Ω = [lo, hi] with (z' − z)ᵀ G(z) >= 0 for all z' in Ω, G(z) = q + W z,
+//! W symmetric positive semidefinite, seen as an [`Operator`] (products and diagonal, plus
+//! its CSR storage when it is explicit). The rows come in blocks (one per contact); the
+//! bounds may depend on z (a QVI) and a [`BoundRule`] recomputes them block by block in the
+//! outer compatibility loop.
+//!
+//! # Algorithm
+//!
+//! * **Outer loop** (math note §4.3, compatibility iteration; `outer.rs`). Pass m asks the
+//!   [`BoundRule`] for the box of the current iterate (one [`BoundRule::block_bounds`] call
+//!   per block), clips the iterate into it and runs the inner solver from there. It stops at
+//!   the first pass m >= 1 whose bounds differ from those of pass m − 1 by at most
+//!   `eps_out * max(1, max|finite bound|)` (`eps_out = tolerance`) *and* whose clipped
+//!   iterate already has a scaled natural residual of at most `tolerance` with these bounds.
+//!   [`Report::outer_iterations`] counts PC runs (a plain VI reports 1: one run, then a
+//!   confirming pass that finds the same box) and `max_outer` caps them. The first PC run
+//!   goes down to `tolerance`; later runs stop earlier while the box still moves
+//!   ([`Solver::inexact`], the math note leaves the inner accuracy per pass open).
+//! * **Inner solver** (math note §4.2; `pc.rs`): the self-adaptive projection-contraction
+//!   (PC) method with nu = 0.9, mu_s = 0.4, gamma = 1.8, beta_0 = 1 / max_j W_jj (1 in
+//!   Jacobi-scaled variables), shrink beta ← 0.7 min(1, 1/r) beta, enlarge beta ← 1.5 beta
+//!   when r <= mu_s. `W z` is stored, so an iteration costs two products with W (one for
+//!   the trial point, one for the new iterate) plus one per rejected trial step; each PC
+//!   run adds one product for its starting point. (A single product per iteration is not
+//!   possible: both G(zt) and G(z_new) are needed, at points that are not linear
+//!   combinations of stored products.)
+//! * **Correction step**: both variants of §4.2 exist ([`Correction`]); the default is the
+//!   extragradient-type step z = P_Ω[z − gamma alpha beta G(zt)], which keeps the iterate
+//!   feasible and needed fewer W-products on every problem set measured (see
+//!   `benches/vi.rs`).
+//! * **Residual** (math note §4.3):
+//!   `res = ||z − P_Ω[z − D⁻¹ G(z)]||_inf / max(1, ||z||_inf)`, `D = diag(W)`. It is the
+//!   inner stopping test (except for the inexact passes above) and the reported value. It is
+//!   evaluated on the unscaled iterate (`z = D^{-1/2} y`, `D⁻¹ G = D^{-1/2} Ĝ`) inside each
+//!   sweep, so the reported residual is that of the returned `z`.
+//! * **Zero diagonals.** A row with `W_jj <= 0` (or non-finite) uses `D_jj = 1` in the
+//!   residual and in the Jacobi scaling. For a PSD W, `W_jj = 0` forces the whole row and
+//!   column to vanish, so `G_j = q_j` is constant: such a row has a solution only if the bound
+//!   that `q_j` pushes toward is finite. This is checked at every pass and reported as
+//!   [`Status::Diverged`] instead of iterating.
+//! * **Jacobi scaling** (`Options::jacobi`; `scaling.rs`): `z = D^{-1/2} y`, so
+//!   `Ŵ = D^{-1/2} W D^{-1/2}` has unit diagonal, `q̂ = D^{-1/2} q` and the bounds become
+//!   `D^{1/2} lo, D^{1/2} hi` (infinite bounds stay infinite). It is not optional in practice
+//!   when rows involving only heavy bodies carry force: with two 1e12-kg bodies in contact
+//!   (`vi_kkt`, `jacobi_needed_for_heavy_heavy_contact`) the unscaled solver does not
+//!   converge in 20 000 iterations while the scaled one needs a few hundred.
+//!
+//! # Performance
+//!
+//! * An explicit W ([`Operator::as_csr`]) is copied once per call with the scaling folded
+//!   into its values and `u32` column indices, about the cost of one product; each sweep
+//!   then fuses its product with the vector work of the PC step (residual, projection, dot
+//!   products), so an iteration makes three passes over the rows. The row loop reads the
+//!   iterate without bounds checks (the column indices are checked once, in the copy).
+//! * A matrix-free W is applied through [`Operator::apply`] with the Jacobi scaling done by
+//!   vectors around each product (two extra passes over the rows per product); it solves
+//!   the same problems as the explicit path (`tests/vi_networks.rs`,
+//!   `operator_path_matches_csr`), and `benches/vi.rs` (group `vi_products`) times both.
+//! * [`Solver`] keeps its work storage across calls: it allocates only when a problem is
+//!   larger than every previous one, never inside the iterations.
+//! * Rows are processed in blocks of 2 048 (`par.rs`); blocks run on rayon from
+//!   [`Solver::parallel_min_rows`] rows (default 20 000). Block partial sums are reduced in
+//!   block order, so serial and parallel results are bit-identical. On a shared 2-core
+//!   machine rayon gave no measurable gain (`benches/vi.rs`, group `vi_products`).
+//!
+//! # Failure modes (never a panic)
+//!
+//! `converged = false`, with the reason in [`Solver::stats`], when the iteration or outer
+//! cap is reached, when a NaN or infinity appears, when the bound rule returns `lo > hi` or
+//! NaN, when the input is inconsistent ([`Status::InvalidInput`]), or when the iterates
+//! diverge. Divergence test: for a solvable problem the PC iterates are Fejér-monotone (math
+//! note §4.2), hence bounded; they are declared divergent when `||z||_inf` exceeds
+//! `growth * S`, `S = max(1, ||D⁻¹q||_inf, ||z_start||_inf, max|finite bound|)`,
+//! `growth = clamp(1e-2 / tolerance, 1e4, 1e8)`. The residual is relative to `||z||`, so a
+//! ray `z = t d` with `W d = 0`, `qᵀd < 0` (e.g. a particle jammed between two walls closer
+//! than its diameter) would eventually pass the residual test; the growth test fires first
+//! whenever the violated gap is at least `1e-2 S` in force units. Rays along which beta
+//! grows are caught within a few dozen iterations; a ray that advances only linearly (beta
+//! held back by the bounded part of the problem) uses up `max_iterations` and ends as
+//! [`Status::IterationLimit`]. On divergence or non-finite values the warm start is
+//! restored in `z` and the reported residual is `+inf`.
+//!
+//! # Requirements on the input
+//!
+//! `W` square, symmetric, PSD, `n = W.dim() = q.len() = z.len()`, blocks a partition of the
+//! rows. An explicit W stores both triangles; CSC storage is accepted too (for a symmetric
+//! matrix its compressed storage reads the same as CSR). Symmetry and semidefiniteness are
+//! not checked (PC only needs monotonicity of G).
+
+mod operator;
+mod outer;
+mod par;
+mod pc;
+mod scaling;
+#[cfg(test)]
+mod tests;
+
+pub use operator::Operator;
+
+/// G(z) = q + W z, with the rows grouped in per-contact blocks: block k is rows
+/// `blocks[k]..blocks[k+1]` (`blocks.len()` = number of blocks + 1, `blocks[0] = 0`, last =
+/// `q.len()`).
+pub struct Problem<'a> {
+    pub w: &'a dyn Operator,
+    pub q: &'a [f64],
+    pub blocks: &'a [usize],
+}
+
+impl Problem<'_> {
+    /// Dimensions agree and `blocks` partitions the rows (for n = 0, `[]` and `[0]` both do).
+    pub fn is_consistent(&self, z: &[f64]) -> bool {
+        let n = self.q.len();
+        let blocks_ok = match self.blocks {
+            [] => n == 0,
+            b => b[0] == 0 && b[b.len() - 1] == n && b.windows(2).all(|w| w[0] <= w[1]),
+        };
+        blocks_ok && self.w.dim() == n && z.len() == n
+    }
+}
+
+/// Recomputes the box from the current iterate (math note §4.3), block by block.
+pub trait BoundRule {
+    /// Bounds of block k for the iterate z: lo, hi have the block's length (±inf allowed).
+    fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]);
+
+    /// Bounds of every block (lo, hi of full length). The solver calls this once per pass;
+    /// the default calls [`Self::block_bounds`] for each block in order.
+    fn all_bounds(&self, blocks: &[usize], z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        for (k, b) in blocks.windows(2).enumerate() {
+            self.block_bounds(k, z, &mut lo[b[0]..b[1]], &mut hi[b[0]..b[1]]);
+        }
+    }
+}
+
+/// Bounds that do not depend on z: a plain VI. `lo`, `hi` cover all rows.
+pub struct FixedBounds {
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+}
+
+impl BoundRule for FixedBounds {
+    /// Block k taken as rows `k L .. (k + 1) L`, L = `lo.len()`: right for blocks of equal
+    /// length. The solver does not use it: [`Self::all_bounds`] copies the whole box, for any
+    /// blocks.
+    fn block_bounds(&self, k: usize, _z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        let a = k * lo.len();
+        lo.copy_from_slice(&self.lo[a..a + lo.len()]);
+        hi.copy_from_slice(&self.hi[a..a + hi.len()]);
+    }
+
+    fn all_bounds(&self, _blocks: &[usize], _z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+        lo.copy_from_slice(&self.lo);
+        hi.copy_from_slice(&self.hi);
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Options {
+    /// Scaled natural residual to reach (math note §4.3).
+    pub tolerance: f64,
+    /// Cap on inner PC iterations, all outer loops together.
+    pub max_iterations: usize,
+    /// Cap on outer (bound-update) iterations.
+    pub max_outer: usize,
+    /// Jacobi scaling z = D^{-1/2} y (math note §4.2).
+    pub jacobi: bool,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Self { tolerance: 1e-8, max_iterations: 200_000, max_outer: 50, jacobi: true }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Report {
+    pub outer_iterations: usize,
+    pub inner_iterations: usize,
+    /// Final scaled natural residual with the final bounds.
+    pub residual: f64,
+    pub converged: bool,
+}
+
+/// The correction step of the PC method (math note §4.2). The extragradient-type step needed
+/// fewer W-products than the contraction step on every set measured (random box VIs,
+/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/vi_networks.rs`,
+/// `correction_comparison`, and `benches/vi.rs`) and keeps every iterate inside the box, so
+/// it is the default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Correction {
+    /// z = P_Ω[z − gamma alpha beta G(zt)]: iterates stay feasible.
+    #[default]
+    Extragradient,
+    /// z = z − gamma alpha d, d = e − beta (G(z) − G(zt)): the plain PC step.
+    Contraction,
+}
+
+/// Why the last solve stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Status {
+    /// Residual and bound change below tolerance (also: empty problem).
+    #[default]
+    Converged,
+    /// `max_iterations` inner iterations used up; `z` is the last iterate.
+    IterationLimit,
+    /// `max_outer` PC runs done without the bounds settling; `z` is the last iterate.
+    OuterLimit,
+    /// No bounded solution (zero row pushed toward an infinite bound, or growing iterates);
+    /// `z` holds the warm start again.
+    Diverged,
+    /// A NaN or infinity appeared (in q, W or an iterate); `z` holds the warm start again.
+    NonFinite,
+    /// The bound rule returned `lo > hi`, NaN, `lo = +inf` or `hi = -inf`; `z` is the last
+    /// iterate (clipped to the last valid box).
+    InvalidBounds,
+    /// The step size collapsed (beta below 1e-30 beta_0, or a zero predictor step without
+    /// a small residual); only round-off can cause this. `z` is the last iterate.
+    Stalled,
+    /// Inconsistent input: dimensions of W, q, z or the blocks disagree, or an explicit W
+    /// has a column index out of range. `z` is untouched.
+    InvalidInput,
+}
+
+/// Counters of the last solve (see [`Solver::stats`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Stats {
+    pub status: Status,
+    /// Products with W (scaled or not), the dominant cost.
+    pub products: usize,
+    /// Rejected trial steps (beta shrinks).
+    pub shrinks: usize,
+}
+
+/// The solver with its workspace, reused across calls and steps: allocation only when a
+/// problem is larger than every previous one, never inside the iterations.
+#[derive(Debug, Clone)]
+pub struct Solver {
+    /// Correction step of the PC method (default: extragradient).
+    pub correction: Correction,
+    /// Sweeps run on the rayon pool from this many rows on (default 20 000); `usize::MAX`
+    /// keeps everything on the calling thread. Results do not depend on this setting.
+    pub parallel_min_rows: usize,
+    /// Inner accuracy of the outer passes after the first (default 0.1): pass m >= 1 stops
+    /// its PC run at `max(tolerance, inexact * change_m / max(1, max|bound|))`, where
+    /// change_m is the bound change that started the pass. 0 gives the exact compatibility
+    /// iteration of math note §4.3. The final pass always meets `tolerance` with a settled
+    /// box, so the accepted solutions are the same; only the work differs: on random
+    /// three-disk Coulomb QVIs 0.1 needed about a fifth of the W-products of the exact
+    /// iteration and failed to settle less often, and on a frictional square packing it
+    /// converged where the exact iteration ran out of iterations.
+    pub inexact: f64,
+    stats: Stats,
+    scaling: scaling::Scaling,
+    vectors: pc::Vectors,
+}
+
+impl Default for Solver {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Solver {
+    pub fn new() -> Solver {
+        Solver {
+            correction: Correction::default(),
+            parallel_min_rows: 20_000,
+            inexact: 0.1,
+            stats: Stats::default(),
+            scaling: scaling::Scaling::default(),
+            vectors: pc::Vectors::default(),
+        }
+    }
+
+    /// Sets [`Self::correction`].
+    pub fn with_correction(mut self, correction: Correction) -> Solver {
+        self.correction = correction;
+        self
+    }
+
+    /// Sets [`Self::parallel_min_rows`].
+    pub fn with_parallel_min_rows(mut self, rows: usize) -> Solver {
+        self.parallel_min_rows = rows;
+        self
+    }
+
+    /// Sets [`Self::inexact`].
+    pub fn with_inexact(mut self, inexact: f64) -> Solver {
+        self.inexact = inexact;
+        self
+    }
+
+    /// Counters and stop reason of the last [`Self::solve`] call.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Solves the (Q)VI, starting from and overwriting `z` (warm start); see the module
+    /// documentation for the method. Afterwards [`Self::stats`] tells why it stopped and how
+    /// many W-products it used. Never panics on bad input ([`Status::InvalidInput`]).
+    pub fn solve(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+        let n = p.q.len();
+        self.stats = Stats::default();
+        let csr = p.w.as_csr();
+        let explicit = csr.is_some();
+        let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
+        if !p.is_consistent(z) || !csr_ok {
+            return self.invalid_input();
+        }
+        if n == 0 {
+            return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
+        }
+        let max_diag = match csr {
+            Some(w) => match self.scaling.setup_csr(w, opts.jacobi) {
+                Some(d) => d,
+                None => return self.invalid_input(),
+            },
+            None => self.scaling.setup_operator(p.w, opts.jacobi, &mut self.vectors.tmp),
+        };
+        let beta0 = if max_diag > 0.0 && max_diag.is_finite() { 1.0 / max_diag } else { 1.0 };
+        let dq = self.scaling.scale_q(p.q);
+        self.vectors.start(z, &self.scaling.sd);
+        let pass = outer::Pass {
+            rule,
+            blocks: p.blocks,
+            q: p.q,
+            opts,
+            inexact: if self.inexact.is_finite() { self.inexact.max(0.0) } else { 0.0 },
+            dq,
+        };
+        let mut st = pc::State::new(beta0);
+        let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
+        let correction = self.correction;
+        let report = if explicit {
+            let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
+            outer::solve(&pc::Ctx::new(rows, s, par, correction), &pass, &mut self.vectors, &mut st, z)
+        } else {
+            let rows = scaling::Scaled { w: p.w, sc: &s.sc };
+            outer::solve(&pc::Ctx::new(rows, s, par, correction), &pass, &mut self.vectors, &mut st, z)
+        };
+        self.stats = st.stats;
+        report
+    }
+
+    fn invalid_input(&mut self) -> Report {
+        self.stats.status = Status::InvalidInput;
+        Report { outer_iterations: 0, inner_iterations: 0, residual: f64::INFINITY, converged: false }
+    }
+}
+
+/// Convenience for tests: a fresh [`Solver`] per call.
+pub fn solve(p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+    Solver::new().solve(p, rule, z, opts)
+}

@@ -1,0 +1,81 @@
+//! The operator W the solver sees (math note §3): products and the diagonal, plus the explicit
+//! CSR storage when there is one (the solver then copies it once per call, scaled, and fuses
+//! the products with the vector work of each sweep).
+
+use sprs::{CsMat, CsMatView};
+
+/// A square, symmetric, positive semidefinite W, seen through its products.
+pub trait Operator: Sync {
+    /// Number of rows (= columns) of W.
+    fn dim(&self) -> usize;
+    /// out = W z (overwrites out).
+    fn apply(&self, z: &[f64], out: &mut [f64]);
+    /// `out[j] = W_jj`.
+    fn diagonal(&self, out: &mut [f64]);
+    /// The explicit CSR matrix, when there is one: the solver then uses its fused, scaled fast path.
+    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
+        None
+    }
+}
+
+/// W stored explicitly with both triangles. CSC storage is accepted too: [`Operator::as_csr`]
+/// then reads it as CSR, i.e. returns Wᵀ, which is W for the symmetric matrices the solver
+/// takes (`apply` and `diagonal` use W itself).
+impl Operator for CsMat<f64> {
+    fn dim(&self) -> usize {
+        self.rows()
+    }
+    fn apply(&self, z: &[f64], out: &mut [f64]) {
+        apply_view(self.view(), z, out);
+    }
+    fn diagonal(&self, out: &mut [f64]) {
+        diagonal_view(self.view(), out);
+    }
+    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
+        Some(if self.is_csr() { self.view() } else { self.transpose_view() })
+    }
+}
+
+/// A borrowed explicit W (see the impl for [`CsMat`]).
+impl Operator for CsMatView<'_, f64> {
+    fn dim(&self) -> usize {
+        self.rows()
+    }
+    fn apply(&self, z: &[f64], out: &mut [f64]) {
+        apply_view(self.view(), z, out);
+    }
+    fn diagonal(&self, out: &mut [f64]) {
+        diagonal_view(self.view(), out);
+    }
+    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
+        Some(if self.is_csr() { self.view() } else { self.transpose_view() })
+    }
+}
+
+/// out = W z for CSR or CSC storage.
+fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
+    if w.is_csr() {
+        for (o, row) in out.iter_mut().zip(w.outer_iterator()) {
+            *o = row.iter().map(|(j, &v)| v * z[j]).sum();
+        }
+    } else {
+        out.fill(0.0);
+        for (j, col) in w.outer_iterator().enumerate() {
+            for (i, &v) in col.iter() {
+                out[i] += v * z[j];
+            }
+        }
+    }
+}
+
+/// out[j] = W_jj (duplicate entries summed) for CSR or CSC storage.
+fn diagonal_view(w: CsMatView<'_, f64>, out: &mut [f64]) {
+    out.fill(0.0);
+    for (i, vec) in w.outer_iterator().enumerate() {
+        for (j, &v) in vec.iter() {
+            if j == i {
+                out[i] += v;
+            }
+        }
+    }
+}

@@ -1,0 +1,194 @@
+//! The outer compatibility loop (math note §4.3): each pass asks the bound rule for the box of
+//! the current iterate, block by block, clips the iterate into it and runs the PC solver from
+//! there, until the box settles and the iterate solves the VI of its own box.
+
+use super::pc::{self, Ctx, State, Vectors, clip};
+use super::scaling::Rows;
+use super::{BoundRule, Options, Report, Status};
+
+/// Everything a pass needs besides the work storage.
+pub(super) struct Pass<'a> {
+    pub rule: &'a dyn BoundRule,
+    pub blocks: &'a [usize],
+    /// The unscaled q (zero-row test).
+    pub q: &'a [f64],
+    pub opts: &'a Options,
+    /// Inner accuracy factor of the passes after the first (`Solver::inexact`, sanitized).
+    pub inexact: f64,
+    /// max(1, ||D⁻¹q||_inf).
+    pub dq: f64,
+}
+
+/// The new box measured against the previous one.
+struct NewBox {
+    /// Largest change of a bound (0 at the first pass).
+    change: f64,
+    /// max(0, max |finite bound|).
+    bmax: f64,
+    /// Bit-identical to the previous box.
+    same: bool,
+}
+
+/// Runs the passes from the warm start in `v.y`; writes the result (or the restored warm
+/// start) into `z` and the counters into `st`.
+pub(super) fn solve<R: Rows>(c: &Ctx<R>, p: &Pass, v: &mut Vectors, st: &mut State, z: &mut [f64]) -> Report {
+    let status = match passes(c, p, v, st, z) {
+        Ok(()) => Status::Converged,
+        Err(s) => s,
+    };
+    finish(c, v, st, z, status)
+}
+
+/// The pass loop; `Ok` once converged.
+fn passes<R: Rows>(
+    c: &Ctx<R>,
+    p: &Pass,
+    v: &mut Vectors,
+    st: &mut State,
+    z: &mut [f64],
+) -> Result<(), Status> {
+    let tol = p.opts.tolerance;
+    let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
+    loop {
+        let nb = new_box(c, p, v, st, z)?;
+        // Clip the iterate into the new box.
+        let moved = {
+            let Vectors { y, ylo, yhi, parts, .. } = &mut *v;
+            super::par::run1(c.par, y, parts, |r0, yo| {
+                let mut moved = 0.0;
+                for (k, yk) in yo.iter_mut().enumerate() {
+                    let cl = clip(*yk, ylo[r0 + k], yhi[r0 + k]);
+                    if cl != *yk {
+                        moved += 1.0;
+                        *yk = cl;
+                    }
+                }
+                super::par::Partial { s0: moved, ..Default::default() }
+            })
+            .s0
+        };
+        // Unchanged box and iterate: the last sweep is still valid.
+        let stale = !(nb.same && moved == 0.0 && st.fresh);
+        if stale && !pc::sweep(c, v, st) {
+            return Err(Status::NonFinite);
+        }
+        let limit = growth * p.dq.max(st.znorm).max(nb.bmax);
+        // Inexact passes (see `Solver::inexact`): while the box still moves, solving the VI
+        // of a box that is about to change far below that change is wasted work. Pass m >= 1
+        // stops at max(tol, inexact * change / max(1, max|bound|)); the stopping test below
+        // still demands the full tolerance with a settled box.
+        let inner_tol = if st.outer == 0 { tol } else { tol.max(p.inexact * nb.change / nb.bmax.max(1.0)) };
+        st.have_prev = true;
+        if st.outer > 0 && nb.change <= tol * nb.bmax.max(1.0) && st.res <= tol {
+            return Ok(());
+        }
+        if st.outer >= p.opts.max_outer {
+            return Err(Status::OuterLimit);
+        }
+        st.outer += 1;
+        pc::run(c, v, st, inner_tol, limit, p.opts.max_iterations)?;
+    }
+}
+
+/// Asks the rule for the box of the current iterate (z itself at the first pass, else the
+/// unscaled y), validates it, measures its change and scales it. Errors: `InvalidBounds`
+/// (the last valid box is kept for the final unscaling) and `Diverged` (a zero row pushed
+/// toward an infinite bound).
+fn new_box<R: Rows>(
+    c: &Ctx<R>,
+    p: &Pass,
+    v: &mut Vectors,
+    st: &State,
+    z: &mut [f64],
+) -> Result<NewBox, Status> {
+    if st.have_prev {
+        pc::unscale_into(c, v, z);
+        std::mem::swap(&mut v.lo, &mut v.lo_prev);
+        std::mem::swap(&mut v.hi, &mut v.hi_prev);
+    }
+    p.rule.all_bounds(p.blocks, z, &mut v.lo, &mut v.hi);
+
+    let Vectors { lo, hi, lo_prev, hi_prev, ylo, yhi, .. } = &mut *v;
+    let sd = c.sd;
+    let have_prev = st.have_prev;
+    let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
+    for i in 0..lo.len() {
+        let (l, h) = (lo[i], hi[i]);
+        valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
+        if l.is_finite() {
+            bmax = bmax.max(l.abs());
+        }
+        if h.is_finite() {
+            bmax = bmax.max(h.abs());
+        }
+        if have_prev {
+            change = change.max(bound_diff(l, lo_prev[i])).max(bound_diff(h, hi_prev[i]));
+            same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
+        }
+        ylo[i] = l * sd[i];
+        yhi[i] = h * sd[i];
+    }
+    if !valid {
+        if have_prev {
+            // Keep the last valid box for the final unscaling.
+            std::mem::swap(lo, lo_prev);
+            std::mem::swap(hi, hi_prev);
+            for i in 0..lo.len() {
+                ylo[i] = lo[i] * sd[i];
+                yhi[i] = hi[i] * sd[i];
+            }
+        }
+        return Err(Status::InvalidBounds);
+    }
+    // Zero rows: G_j = q_j is constant; it needs a finite bound on the side q pushes to.
+    let q = p.q;
+    if c.zero_rows
+        .iter()
+        .any(|&j| (q[j] > 0.0 && lo[j] == f64::NEG_INFINITY) || (q[j] < 0.0 && hi[j] == f64::INFINITY))
+    {
+        return Err(Status::Diverged);
+    }
+    Ok(NewBox { change, bmax, same })
+}
+
+/// Stores the status, writes z (the solution, the last iterate, or the restored warm start)
+/// and builds the report.
+fn finish<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, z: &mut [f64], status: Status) -> Report {
+    st.stats.status = status;
+    let keeps_iterate = !matches!(status, Status::Diverged | Status::NonFinite)
+        && (status != Status::InvalidBounds || st.have_prev);
+    if status != Status::Converged && keeps_iterate && st.last_infeasible {
+        // Contraction step only: report the residual of the projected iterate.
+        pc::project(c, v);
+        pc::sweep(c, v, st);
+    }
+    let residual = match status {
+        Status::Diverged | Status::NonFinite => {
+            z.copy_from_slice(&v.z0);
+            f64::INFINITY
+        }
+        // No valid box was ever returned: z was not touched.
+        Status::InvalidBounds if !st.have_prev => f64::INFINITY,
+        _ => {
+            pc::unscale_into(c, v, z);
+            if status == Status::InvalidBounds { f64::INFINITY } else { st.res }
+        }
+    };
+    Report {
+        outer_iterations: st.outer,
+        inner_iterations: st.inner,
+        residual,
+        converged: status == Status::Converged,
+    }
+}
+
+/// |a − b| for two bounds; 0 for equal infinities, +inf when only one is infinite.
+fn bound_diff(a: f64, b: f64) -> f64 {
+    if a == b {
+        0.0
+    } else if a.is_finite() && b.is_finite() {
+        (a - b).abs()
+    } else {
+        f64::INFINITY
+    }
+}

@@ -1,0 +1,323 @@
+//! The inner solver: self-adaptive projection-contraction (math note §4.2) on the scaled
+//! variables y = D^{1/2} z, with the fused sweeps that carry its products.
+
+use super::par::{self, BLOCK, Partial};
+use super::scaling::{Rows, Scaling};
+use super::{Correction, Stats, Status};
+
+const NU: f64 = 0.9;
+const MU_S: f64 = 0.4;
+const GAMMA: f64 = 1.8;
+const SHRINK: f64 = 0.7;
+const ENLARGE: f64 = 1.5;
+/// beta stays within [1e-30, 1e30] * beta_0.
+const BETA_RANGE: f64 = 1e30;
+
+/// Read-only inputs of one call: the scaled W, the scaling vectors and the settings.
+pub(super) struct Ctx<'a, R: Rows> {
+    pub rows: R,
+    /// Sweeps run on rayon.
+    pub par: bool,
+    pub correction: Correction,
+    pub sd: &'a [f64],
+    pub sc: &'a [f64],
+    pub gs: &'a [f64],
+    pub qs: &'a [f64],
+    /// Rows of W that are entirely zero.
+    pub zero_rows: &'a [usize],
+}
+
+impl<'a, R: Rows> Ctx<'a, R> {
+    pub fn new(rows: R, s: &'a Scaling, par: bool, correction: Correction) -> Self {
+        Ctx { rows, par, correction, sd: &s.sd, sc: &s.sc, gs: &s.gs, qs: &s.qs, zero_rows: &s.zero_rows }
+    }
+}
+
+/// Work vectors of length n (reused across calls).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Vectors {
+    pub y: Vec<f64>,
+    /// Ŵ y.
+    pub wy: Vec<f64>,
+    /// Trial point P[y − beta (q̂ + Ŵ y)].
+    pub yt: Vec<f64>,
+    /// Ŵ yt.
+    pub wyt: Vec<f64>,
+    /// Box of the current pass (unscaled) and of the previous one.
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+    pub lo_prev: Vec<f64>,
+    pub hi_prev: Vec<f64>,
+    /// Box of the current pass in y.
+    pub ylo: Vec<f64>,
+    pub yhi: Vec<f64>,
+    /// Warm start, restored on failure.
+    pub z0: Vec<f64>,
+    /// Scratch for matrix-free products.
+    pub tmp: Vec<f64>,
+    pub parts: Vec<Partial>,
+}
+
+impl Vectors {
+    /// Sizes everything for n rows and starts from the warm start z (y = sd z).
+    pub fn start(&mut self, z: &[f64], sd: &[f64]) {
+        let n = z.len();
+        for v in [
+            &mut self.y,
+            &mut self.wy,
+            &mut self.yt,
+            &mut self.wyt,
+            &mut self.lo,
+            &mut self.hi,
+            &mut self.lo_prev,
+            &mut self.hi_prev,
+            &mut self.ylo,
+            &mut self.yhi,
+            &mut self.z0,
+            &mut self.tmp,
+        ] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.parts.clear();
+        self.parts.resize(n.div_ceil(BLOCK), Partial::default());
+        for i in 0..n {
+            self.z0[i] = z[i];
+            self.y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
+        }
+    }
+}
+
+/// Iteration state shared by the outer loop and the PC runs.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct State {
+    pub beta: f64,
+    pub beta_min: f64,
+    pub beta_max: f64,
+    pub inner: usize,
+    pub outer: usize,
+    /// Results of the last sweep over y: residual, ||z||_inf, ||y − yt||².
+    pub res: f64,
+    pub znorm: f64,
+    pub ee: f64,
+    /// A sweep has been made (its results above are those of the current y unless y moved).
+    pub fresh: bool,
+    /// y lay outside the box at the last sweep (contraction step only).
+    pub last_infeasible: bool,
+    /// A valid box exists (from an earlier pass).
+    pub have_prev: bool,
+    pub stats: Stats,
+}
+
+impl State {
+    pub fn new(beta0: f64) -> Self {
+        State {
+            beta: beta0,
+            beta_min: beta0 / BETA_RANGE,
+            beta_max: beta0 * BETA_RANGE,
+            inner: 0,
+            outer: 0,
+            res: f64::INFINITY,
+            znorm: 0.0,
+            ee: 0.0,
+            fresh: false,
+            last_infeasible: false,
+            have_prev: false,
+            stats: Stats::default(),
+        }
+    }
+}
+
+/// Projection onto [lo, hi] (lo <= hi checked by the caller). Unlike `f64::clamp` it never
+/// panics.
+#[inline(always)]
+pub(super) fn clip(x: f64, lo: f64, hi: f64) -> f64 {
+    x.max(lo).min(hi)
+}
+
+/// The unscaled iterate z = D^{-1/2} y, snapped so that an active scaled bound maps to the
+/// exact unscaled bound and lo <= z <= hi holds exactly.
+#[inline(always)]
+pub(super) fn unscale(y: f64, ylo: f64, yhi: f64, lo: f64, hi: f64, sc: f64) -> f64 {
+    if y <= ylo {
+        lo
+    } else if y >= yhi {
+        hi
+    } else {
+        clip(sc * y, lo, hi)
+    }
+}
+
+/// z = the unscaled y (see [`unscale`]).
+pub(super) fn unscale_into<R: Rows>(c: &Ctx<R>, v: &mut Vectors, z: &mut [f64]) {
+    let Vectors { y, lo, hi, ylo, yhi, parts, .. } = v;
+    let sc = c.sc;
+    par::map(c.par, z, parts, |i, zi| *zi = unscale(y[i], ylo[i], yhi[i], lo[i], hi[i], sc[i]));
+}
+
+/// Clips y into the scaled box.
+pub(super) fn project<R: Rows>(c: &Ctx<R>, v: &mut Vectors) {
+    let Vectors { y, ylo, yhi, parts, .. } = v;
+    par::map(c.par, y, parts, |i, yi| *yi = clip(*yi, ylo[i], yhi[i]));
+}
+
+/// One fused pass over the rows: `wy = Ŵ y`, the residual of z = D^{-1/2} y with
+/// D⁻¹ G(z) = gs ∘ (q̂ + Ŵ y) (math note §4.3), and the trial point
+/// `yt = P[y − beta (q̂ + Ŵ y)]`. Counts the product and stores the results in `st`;
+/// returns false when a NaN or infinity appeared in y or G(y).
+pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
+    st.stats.products += 1;
+    let Vectors { y, wy, yt, lo, hi, ylo, yhi, tmp, parts, .. } = v;
+    c.rows.prepare(y, wy, tmp);
+    let (sc, gs, qs, beta) = (c.sc, c.gs, c.qs, st.beta);
+    let pt = par::run2(c.par, wy, yt, parts, |r0, wo, to| {
+        let mut pt = Partial::default();
+        let mut bad = 0.0;
+        for (k, (wk, tk)) in wo.iter_mut().zip(to.iter_mut()).enumerate() {
+            let i = r0 + k;
+            let yi = y[i];
+            let w = c.rows.row(i, y, *wk);
+            *wk = w;
+            let f = qs[i] + w;
+            let zi = unscale(yi, ylo[i], yhi[i], lo[i], hi[i], sc[i]);
+            let r = (zi - clip(zi - gs[i] * f, lo[i], hi[i])).abs();
+            let t = clip(yi - beta * f, ylo[i], yhi[i]);
+            *tk = t;
+            let e = yi - t;
+            pt.s0 += e * e;
+            // Infeasibility of y: a max per block; `reduce` sums the blocks, which keeps
+            // "> 0" intact.
+            pt.s1 = pt.s1.max((ylo[i] - yi).max(yi - yhi[i]));
+            pt.m0 = pt.m0.max(r);
+            pt.m1 = pt.m1.max(zi.abs());
+            // NaN/inf detector: `clip` and `max` would swallow a NaN.
+            bad += yi * 0.0 + f * 0.0;
+        }
+        pt.s2 = bad;
+        pt
+    });
+    st.fresh = true;
+    st.last_infeasible = pt.s1 > 0.0;
+    st.res = pt.m0 / pt.m1.max(1.0);
+    st.znorm = pt.m1;
+    st.ee = pt.s0;
+    pt.s2.is_finite() && pt.s0.is_finite()
+}
+
+/// One PC run (math note §4.2) down to `inner_tol`. Invariant at the loop head: the sweep
+/// over y is fresh (wy = Ŵy, yt = P[y − beta F(y)], ee = ||y − yt||², res, znorm).
+/// `Ok` when the tolerance is met; `Err` with the reason to stop the whole solve otherwise.
+pub(super) fn run<R: Rows>(
+    c: &Ctx<R>,
+    v: &mut Vectors,
+    st: &mut State,
+    inner_tol: f64,
+    limit: f64,
+    max_iterations: usize,
+) -> Result<(), Status> {
+    loop {
+        if st.znorm > limit {
+            return Err(Status::Diverged);
+        }
+        if st.res <= inner_tol {
+            return Ok(());
+        }
+        if st.inner >= max_iterations {
+            return Err(Status::IterationLimit);
+        }
+        let (r, edf, dfdf) = predictor(c, v, st)?;
+        correct(c, v, st, edf, dfdf);
+        if r <= MU_S {
+            st.beta = (st.beta * ENLARGE).min(st.beta_max);
+        }
+        st.inner += 1;
+        if !sweep(c, v, st) {
+            return Err(Status::NonFinite);
+        }
+        if st.last_infeasible && st.res <= inner_tol {
+            // Contraction step only: accept a point only after projecting it, so the
+            // returned z is feasible and the residual is its own.
+            project(c, v);
+            if !sweep(c, v, st) {
+                return Err(Status::NonFinite);
+            }
+        }
+    }
+}
+
+/// Predictor with step-size control: wyt = Ŵ yt, shrinking beta (and recomputing yt) until
+/// r = beta ||F(y) − F(yt)|| / ||y − yt|| <= nu. Returns (r, eᵀ(F − Ft), |F − Ft|²).
+fn predictor<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> Result<(f64, f64, f64), Status> {
+    loop {
+        if st.ee <= 0.0 {
+            return Err(Status::Stalled);
+        }
+        let Vectors { y, wy, yt, wyt, ylo, yhi, tmp, parts, .. } = v;
+        c.rows.prepare(yt, wyt, tmp);
+        let (y_r, wy_r, yt_r) = (&y[..], &wy[..], &yt[..]);
+        let pt = par::run1(c.par, wyt, parts, |r0, wo| {
+            let mut pt = Partial::default();
+            for (k, wk) in wo.iter_mut().enumerate() {
+                let i = r0 + k;
+                let w = c.rows.row(i, yt_r, *wk);
+                *wk = w;
+                let d = wy_r[i] - w; // F(y) − F(yt)
+                let e = y_r[i] - yt_r[i];
+                pt.s0 += e * d;
+                pt.s1 += d * d;
+            }
+            pt
+        });
+        st.stats.products += 1;
+        if !(pt.s0.is_finite() && pt.s1.is_finite()) {
+            return Err(Status::NonFinite);
+        }
+        let r = st.beta * (pt.s1 / st.ee).sqrt();
+        if r <= NU {
+            return Ok((r, pt.s0, pt.s1));
+        }
+        st.beta *= SHRINK * (1.0 / r).min(1.0);
+        st.stats.shrinks += 1;
+        if st.beta < st.beta_min {
+            return Err(Status::Stalled);
+        }
+        let (beta, qs) = (st.beta, c.qs);
+        st.ee = par::run1(c.par, yt, parts, |r0, to| {
+            let mut s = 0.0;
+            for (k, tk) in to.iter_mut().enumerate() {
+                let i = r0 + k;
+                let t = clip(y_r[i] - beta * (qs[i] + wy_r[i]), ylo[i], yhi[i]);
+                *tk = t;
+                s += (y_r[i] - t) * (y_r[i] - t);
+            }
+            Partial { s0: s, ..Partial::default() }
+        })
+        .s0;
+    }
+}
+
+/// Correction step ([`Correction`]): d = e − beta (F − Ft), alpha = eᵀd / dᵀd (> 1/2 since
+/// r <= nu < 1), then either the projected extragradient-type step or the plain PC step.
+fn correct<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &State, edf: f64, dfdf: f64) {
+    let (ee, beta) = (st.ee, st.beta);
+    let ed = ee - beta * edf;
+    let dd = ee - 2.0 * beta * edf + beta * beta * dfdf;
+    let alpha = ed / dd;
+    let Vectors { y, wy, yt, wyt, ylo, yhi, parts, .. } = v;
+    let qs = c.qs;
+    match c.correction {
+        Correction::Extragradient => {
+            let step = GAMMA * alpha * beta;
+            par::map(c.par, y, parts, |i, yi| {
+                *yi = clip(*yi - step * (qs[i] + wyt[i]), ylo[i], yhi[i]);
+            });
+        }
+        Correction::Contraction => {
+            let step = GAMMA * alpha;
+            par::map(c.par, y, parts, |i, yi| {
+                let d = (*yi - yt[i]) - beta * (wy[i] - wyt[i]);
+                *yi -= step * d;
+            });
+        }
+    }
+}

@@ -1,0 +1,185 @@
+//! Jacobi scaling (math note §4.2): z = D^{-1/2} y, Ŵ = D^{-1/2} W D^{-1/2} (unit diagonal),
+//! q̂ = D^{-1/2} q, with D = diag(W) guarded (`D_jj = 1` where `W_jj <= 0` or is not finite).
+//! Without Jacobi the same vectors hold ones and D⁻¹ (for the residual).
+//!
+//! An explicit CSR W is copied once per call with the scaling folded into its values and
+//! `u32` column indices (12 instead of 16 bytes per nonzero); a matrix-free W is scaled by
+//! vectors around each product. [`Rows`] gives the sweeps one interface to both.
+
+use super::Operator;
+use sprs::CsMatView;
+
+/// The scaled W and q of one call, plus the zero rows (all stored entries 0, or for a
+/// matrix-free W a zero diagonal, which for a PSD W forces the whole row to vanish).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Scaling {
+    /// Copy of an explicit W: row pointers, column indices, scaled values.
+    pub rowptr: Vec<usize>,
+    pub cols: Vec<u32>,
+    pub vals: Vec<f64>,
+    /// D^{1/2} (Jacobi) or 1: y = sd z.
+    pub sd: Vec<f64>,
+    /// D^{-1/2} (Jacobi) or 1: z = sc y.
+    pub sc: Vec<f64>,
+    /// Factor turning the scaled map into D⁻¹ G: D^{-1/2} (Jacobi) or D⁻¹.
+    pub gs: Vec<f64>,
+    /// q̂ = sc q.
+    pub qs: Vec<f64>,
+    pub zero_rows: Vec<usize>,
+}
+
+impl Scaling {
+    fn resize(&mut self, n: usize) {
+        for v in [&mut self.sd, &mut self.sc, &mut self.gs, &mut self.qs] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        self.rowptr.clear();
+        self.cols.clear();
+        self.vals.clear();
+        self.zero_rows.clear();
+    }
+
+    /// Scaling factors of row i from its diagonal entry d (guarded here).
+    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) {
+        let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
+        let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
+        self.sd[i] = sd;
+        self.sc[i] = sc;
+        self.gs[i] = if jacobi { sc } else { 1.0 / d };
+    }
+
+    /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column
+    /// index is out of range or n does not fit the `u32` column indices.
+    pub fn setup_csr(&mut self, w: CsMatView<'_, f64>, jacobi: bool) -> Option<f64> {
+        let n = w.rows();
+        if n > u32::MAX as usize {
+            return None;
+        }
+        self.resize(n);
+        let indptr = w.proper_indptr();
+        let (indices, data) = (w.indices(), w.data());
+        self.rowptr.extend_from_slice(&indptr);
+        // Diagonal (guarded) and the zero rows.
+        for i in 0..n {
+            let (a, b) = (indptr[i], indptr[i + 1]);
+            let mut d = 0.0;
+            let mut all_zero = true;
+            for k in a..b {
+                if indices[k] == i {
+                    d += data[k];
+                }
+                all_zero &= data[k] == 0.0;
+            }
+            if all_zero {
+                self.zero_rows.push(i);
+            }
+            self.set_factors(i, d, jacobi);
+        }
+        let mut max_diag: f64 = 0.0;
+        self.cols.reserve(indptr[n]);
+        self.vals.reserve(indptr[n]);
+        for i in 0..n {
+            let si = self.sc[i];
+            for k in indptr[i]..indptr[i + 1] {
+                let j = indices[k];
+                if j >= n {
+                    return None;
+                }
+                let v = si * data[k] * self.sc[j];
+                if j == i {
+                    max_diag = max_diag.max(v);
+                }
+                self.cols.push(j as u32);
+                self.vals.push(v);
+            }
+        }
+        Some(max_diag)
+    }
+
+    /// Scaling of a matrix-free W from its diagonal (`diag`: work storage of length n).
+    /// Returns max_j Ŵ_jj.
+    pub fn setup_operator(&mut self, w: &dyn Operator, jacobi: bool, diag: &mut Vec<f64>) -> f64 {
+        let n = w.dim();
+        self.resize(n);
+        diag.clear();
+        diag.resize(n, 0.0);
+        w.diagonal(diag);
+        let mut max_diag: f64 = 0.0;
+        for (i, &d) in diag.iter().enumerate() {
+            if d == 0.0 {
+                self.zero_rows.push(i);
+            }
+            self.set_factors(i, d, jacobi);
+            max_diag = max_diag.max(self.sc[i] * d * self.sc[i]);
+        }
+        max_diag
+    }
+
+    /// q̂ = sc q; returns max(1, ||D⁻¹q||_inf) (D⁻¹ q = gs q̂ in both modes).
+    pub fn scale_q(&mut self, q: &[f64]) -> f64 {
+        let mut dq: f64 = 0.0;
+        for (i, &qi) in q.iter().enumerate() {
+            self.qs[i] = self.sc[i] * qi;
+            dq = dq.max((self.gs[i] * self.qs[i]).abs());
+        }
+        dq.max(1.0)
+    }
+}
+
+/// Ŵ as the sweeps see it: `prepare(x, out, tmp)` before a sweep, then `row(i, x, out[i])`
+/// gives (Ŵ x)_i inside it. The CSR copy computes each row on the fly (fused with the vector
+/// work); a matrix-free operator computes the whole product in `prepare`.
+pub(super) trait Rows: Sync + Copy {
+    fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]);
+    fn row(&self, i: usize, x: &[f64], prepared: f64) -> f64;
+}
+
+/// Read-only view of the scaled CSR copy.
+#[derive(Clone, Copy)]
+pub(super) struct Csr<'a> {
+    pub rowptr: &'a [usize],
+    pub cols: &'a [u32],
+    pub vals: &'a [f64],
+}
+
+impl Rows for Csr<'_> {
+    #[inline(always)]
+    fn prepare(&self, x: &[f64], _out: &mut [f64], _tmp: &mut [f64]) {
+        assert_eq!(x.len() + 1, self.rowptr.len(), "vi: vector length differs from W");
+    }
+
+    /// (Ŵ x)_i.
+    #[inline(always)]
+    fn row(&self, i: usize, x: &[f64], _prepared: f64) -> f64 {
+        let (a, b) = (self.rowptr[i], self.rowptr[i + 1]);
+        let mut acc = 0.0;
+        for (v, &j) in self.vals[a..b].iter().zip(&self.cols[a..b]) {
+            // SAFETY: `Scaling::setup_csr` checked every column index < n, and `prepare`
+            // (called before every sweep) asserted x.len() == n.
+            acc += v * unsafe { *x.get_unchecked(j as usize) };
+        }
+        acc
+    }
+}
+
+/// A matrix-free W scaled by vectors: Ŵ x = sc ∘ W (sc ∘ x).
+#[derive(Clone, Copy)]
+pub(super) struct Scaled<'a> {
+    pub w: &'a dyn Operator,
+    pub sc: &'a [f64],
+}
+
+impl Rows for Scaled<'_> {
+    fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]) {
+        for ((t, &xi), &s) in tmp.iter_mut().zip(x).zip(self.sc) {
+            *t = s * xi;
+        }
+        self.w.apply(tmp, out);
+    }
+
+    #[inline(always)]
+    fn row(&self, i: usize, _x: &[f64], prepared: f64) -> f64 {
+        self.sc[i] * prepared
+    }
+}
