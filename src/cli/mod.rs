@@ -76,6 +76,34 @@ pub enum Command {
         #[arg(long, short)]
         quiet: bool,
     },
+    /// Write PNG and SVG figures from a results folder (finished or still running): monitor
+    /// paths and displacements, contact and connector forces, kinetic energy, solver effort.
+    Plot {
+        /// Results folder of `pbdda run`.
+        dir: PathBuf,
+        /// Where to write the figures (default: DIR/plots).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Bodies whose contact forces to plot (repeatable; default: the first four in contact).
+        #[arg(long = "body")]
+        bodies: Vec<String>,
+    },
+    /// Draw the scene at a step as a PNG: bodies, force chains (width ∝ force), connectors.
+    Render {
+        /// Results folder of `pbdda run`.
+        dir: PathBuf,
+        /// Step to draw (default: the last written step).
+        #[arg(long)]
+        step: Option<usize>,
+        /// Output PNG (default: DIR/render_STEP.png).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Picture width and height in pixels.
+        #[arg(long, default_value_t = 1200)]
+        width: u32,
+        #[arg(long, default_value_t = 900)]
+        height: u32,
+    },
 }
 
 /// Runs the parsed command line.
@@ -87,6 +115,21 @@ pub fn main(cli: Cli) -> Result<()> {
         Command::Sweep { scene, set, reference, out, quiet } => {
             let options = SweepOptions { reference, quiet };
             sweep::command(&scene, &set, &out, &options)
+        }
+        Command::Plot { dir, out, bodies } => {
+            let out = out.unwrap_or_else(|| dir.join("plots"));
+            let opts = crate::output::plot::PlotOptions { bodies, ..Default::default() };
+            let written = crate::output::plot::plot_results(&dir, &out, &opts)?;
+            println!("{} figures in {}", written.len(), out.display());
+            Ok(())
+        }
+        Command::Render { dir, step, out, width, height } => {
+            let out = out.unwrap_or_else(|| {
+                dir.join(format!("render_{}.png", step.map_or("last".into(), |s| s.to_string())))
+            });
+            let path = crate::output::render::render_step(&dir, step, &out, (width, height))?;
+            println!("{}", path.display());
+            Ok(())
         }
     }
 }

@@ -2,16 +2,19 @@
 
 use super::progress::{Progress, ProgressMode, RunSummary};
 use crate::output::csv::{CsvWriter, OutputError};
+use crate::output::results::write_geometry;
+use crate::output::vtk::VtkWriter;
 use crate::scene::{self, Override};
 use crate::world::{StepRecord, World};
 use miette::Result;
 use std::path::Path;
 use std::time::Instant;
 
-/// Everything a run writes as it goes. A new writer (the VTK time series) joins here: a field,
-/// created in [`Writers::create`], fed in [`Writers::write_step`].
+/// Everything a run writes as it goes: the CSVs, the starting geometry (`geometry.csv`, for
+/// `pbdda render`) and the ParaView time series (`vtk/`, unless `[output] vtk = false`).
 struct Writers {
     csv: CsvWriter,
+    vtk: Option<VtkWriter>,
 }
 
 impl Writers {
@@ -19,11 +22,18 @@ impl Writers {
     fn create(out: &Path, world: &World, overwrite: bool) -> Result<Writers, OutputError> {
         let model = &world.model;
         let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?;
-        Ok(Writers { csv })
+        // after the CSV writer's overwrite check: the VTK writer clears DIR/vtk
+        write_geometry(out, world)?;
+        let vtk = if model.output.vtk { Some(VtkWriter::create(out, world)?) } else { None };
+        Ok(Writers { csv, vtk })
     }
 
     fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
-        self.csv.write_step(world, rec)
+        self.csv.write_step(world, rec)?;
+        match &mut self.vtk {
+            Some(vtk) => vtk.write_step(world, rec),
+            None => Ok(()),
+        }
     }
 
     fn log(&mut self, line: &str) -> Result<(), OutputError> {
