@@ -76,13 +76,17 @@ impl Flexibility {
         }
         for c in 0..map.clusters() {
             let members = map.members(c);
-            let changes = members.iter().any(|&b| bodies[b].deformable) || members.len() > 1;
+            let coupled = couplings.iter().any(|(a, _, _)| map.cluster_of(*a) == Some(c));
+            let changes = coupled || members.iter().any(|&b| bodies[b].deformable);
             if !first && !changes {
                 continue;
             }
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
             let factor = if members.len() == 1 && !self.sparse_only {
-                Factor::Body(body_flexibility(&bodies[members[0]], dt).ok_or_else(failed)?)
+                // a single body, possibly tied to fixed bodies: closed form with its own blocks
+                let b = members[0];
+                let own = couplings.iter().filter(|(i, j, _)| *i == b && *j == b).map(|(_, _, k)| k);
+                Factor::Body(body_flexibility(&bodies[b], own, dt).ok_or_else(failed)?)
             } else {
                 let triplets = cluster_triplets(map, c, bodies, couplings, dt);
                 let mut sparse = match self.factors.get_mut(c).filter(|_| !first) {
@@ -122,11 +126,20 @@ impl Flexibility {
     }
 }
 
-/// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2), padded to 6×6; `None` when K is
-/// not positive definite (a body without mass).
-fn body_flexibility(body: &Body, dt: f64) -> Option<BodyMatrix> {
+/// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling
+/// blocks (connectors to fixed bodies), padded to 6×6; `None` when K is not positive definite
+/// (a body without mass).
+fn body_flexibility<'a>(
+    body: &Body,
+    own: impl Iterator<Item = &'a nalgebra::DMatrix<f64>>,
+    dt: f64,
+) -> Option<BodyMatrix> {
     let n = body.ndof();
-    let k = body.elastic_stiffness() + body.mass_matrix() * (2.0 / (dt * dt));
+    let mut k = body.elastic_stiffness() + body.mass_matrix() * (2.0 / (dt * dt));
+    for block in own {
+        let mut view = k.view_mut((0, 0), (n, n));
+        view += block;
+    }
     let mut out = BodyMatrix::zeros();
     let inv = k.view((0, 0), (n, n)).clone_owned().cholesky()?.inverse();
     if !inv.iter().all(|x| x.is_finite()) {

@@ -61,6 +61,8 @@ pub struct Connector {
     pub strength: Option<f64>,
     /// Broken for good: no stiffness, no force.
     pub broken: bool,
+    /// The step it broke in (it is written to `connectors.csv` once more, at that step).
+    pub broken_at: Option<usize>,
 }
 
 /// One step's element: `e = G[0] d_1 + G[1] d_2`, stiffness `k`, carried force `force` (all in
@@ -91,6 +93,7 @@ impl Connector {
             force,
             strength: spec.strength,
             broken: false,
+            broken_at: None,
         }
     }
 

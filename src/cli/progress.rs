@@ -197,5 +197,6 @@ fn warning_kind(w: &Warning) -> &'static str {
 fn event_kind(e: &Event) -> &'static str {
     match e {
         Event::JointBroke { .. } => "joint broke",
+        Event::ConnectorBroke { .. } => "connector broke",
     }
 }

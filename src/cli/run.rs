@@ -1,6 +1,7 @@
 //! `pbdda run SCENE --out DIR [--set KEY=VALUE]...`: run a scene, writing results as it goes.
 
 use super::progress::{Progress, ProgressMode, RunSummary};
+use crate::output::connectors::ConnectorWriter;
 use crate::output::csv::{CsvWriter, OutputError};
 use crate::output::results::write_geometry;
 use crate::output::vtk::VtkWriter;
@@ -14,6 +15,7 @@ use std::time::Instant;
 /// `pbdda render`) and the ParaView time series (`vtk/`, unless `[output] vtk = false`).
 struct Writers {
     csv: CsvWriter,
+    connectors: ConnectorWriter,
     vtk: Option<VtkWriter>,
 }
 
@@ -23,13 +25,15 @@ impl Writers {
         let model = &world.model;
         let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?;
         // after the CSV writer's overwrite check: the VTK writer clears DIR/vtk
+        let connectors = ConnectorWriter::create(out, world, overwrite)?;
         write_geometry(out, world)?;
         let vtk = if model.output.vtk { Some(VtkWriter::create(out, world)?) } else { None };
-        Ok(Writers { csv, vtk })
+        Ok(Writers { csv, connectors, vtk })
     }
 
     fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         self.csv.write_step(world, rec)?;
+        self.connectors.write_step(world, rec)?;
         match &mut self.vtk {
             Some(vtk) => vtk.write_step(world, rec),
             None => Ok(()),

@@ -319,7 +319,30 @@ pub fn step_grid(world: &World, rec: &StepRecord) -> Grid {
     let mut grid = Grid::default();
     add_bodies(&mut grid, world);
     add_contacts(&mut grid, rec);
+    add_lines(&mut grid, &connector_lines(world, rec.step));
     grid
+}
+
+/// The connectors as line cells between their anchors: intact ones, and those that broke in
+/// this step (as in `connectors.csv`).
+pub fn connector_lines(world: &World, step: usize) -> Vec<LineCell> {
+    world
+        .connectors
+        .iter()
+        .filter(|c| !c.broken || c.broken_at == Some(step))
+        .map(|c| LineCell {
+            a: c.anchors[0],
+            b: c.anchors[1],
+            values: CellValues {
+                body: c.bodies[0] as i32,
+                body_b: c.bodies[1] as i32,
+                kind: 20,
+                state: if c.broken { 5 } else { 4 },
+                axial_force: if c.broken { 0.0 } else { c.axial_force() },
+                ..CellValues::default()
+            },
+        })
+        .collect()
 }
 
 /// Writes `DIR/vtk/` as the run goes.

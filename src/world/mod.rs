@@ -19,6 +19,7 @@
 
 use crate::body::{Body, Dofs};
 use crate::cluster::Flexibility;
+use crate::connector::Connector;
 use crate::contact::law::ContactBounds;
 use crate::contact::set::{ContactMemory, interface_for};
 use crate::contact::{BodyShape, ContactKey};
@@ -28,6 +29,7 @@ use crate::model::{Interface, Model};
 use std::collections::HashSet;
 use std::time::Instant;
 
+mod connectors;
 mod detect;
 mod predict;
 mod record;
@@ -84,6 +86,8 @@ pub struct World {
     pub threshold: f64,
     pub load_points: Vec<TrackedPoint>,
     pub monitors: Vec<TrackedPoint>,
+    /// Bolts, springs and beams, in their state at the step start (broken ones included).
+    pub connectors: Vec<Connector>,
     /// Body → global DOF range; clusters.
     pub dofs: DofMap,
     flex: Flexibility,
@@ -110,7 +114,7 @@ impl World {
         let load_points = model.loads.iter().map(|l| track(l.body, l.point)).collect();
         let monitors = model.monitors.iter().map(|m| track(m.body, m.point)).collect();
         let threshold = model.contact.threshold.unwrap_or_else(|| default_threshold(&bodies));
-        let dofs = DofMap::new(&bodies, &[]);
+        let connectors: Vec<Connector> = model.connectors.iter().map(Connector::from_spec).collect();
         let mut world = World {
             model,
             settings,
@@ -120,13 +124,15 @@ impl World {
             threshold,
             load_points,
             monitors,
-            dofs,
+            connectors,
+            dofs: DofMap::default(),
             flex: Flexibility::new(settings.sparse_only),
             memory: ContactMemory::new(),
             broken: HashSet::new(),
             allowance: 1e-9 * threshold,
             pipeline: Pipeline::default(),
         };
+        world.renumber();
         world.cement();
         world
     }
@@ -144,21 +150,34 @@ impl World {
         let step = self.step_index + 1;
         // time as step × dt, not accumulated, so that t is exact at step boundaries
         let t1 = step as f64 * dt;
-        self.flex
-            .refresh(&self.dofs, &self.bodies, &[], dt)
-            .map_err(|source| StepError::Singular { step, source })?;
-        let df = self.predict(t1);
-        stages.predict = clock.lap();
-        let contacts = self.detect(&df);
-        stages.detect = clock.lap();
-        let mut pipeline = std::mem::take(&mut self.pipeline);
-        let solved = self.solve(&contacts, &df, &mut pipeline);
-        self.pipeline = pipeline;
-        (stages.rows, stages.vi) = (solved.times.rows, solved.times.vi);
-        stages.refine = clock.lap() - stages.rows - stages.vi;
-        let motion = self.motion(&df, &solved);
-        self.check_finite(&motion, step)?;
+        let mut events = Vec::new();
+        // a connector that breaks changes the system: the step is solved again without it (§6)
+        let (contacts, solved, motion) = loop {
+            let couplings = self.couplings();
+            self.flex
+                .refresh(&self.dofs, &self.bodies, &couplings, dt)
+                .map_err(|source| StepError::Singular { step, source })?;
+            let df = self.predict(t1);
+            stages.predict += clock.lap();
+            let contacts = self.detect(&df);
+            stages.detect += clock.lap();
+            let mut pipeline = std::mem::take(&mut self.pipeline);
+            let solved = self.solve(&contacts, &df, &mut pipeline);
+            self.pipeline = pipeline;
+            stages.rows += solved.times.rows;
+            stages.vi += solved.times.vi;
+            stages.refine += clock.lap() - solved.times.rows - solved.times.vi;
+            let motion = self.motion(&df, &solved);
+            self.check_finite(&motion, step)?;
+            let broke = self.break_connectors(&motion.dbar, step);
+            if broke.is_empty() {
+                break (contacts, solved, motion);
+            }
+            events.extend(broke);
+            self.renumber();
+        };
         self.allowance = self.gap_accuracy(&solved);
+        self.update_connectors(&motion.dbar);
         self.update(&motion, dt);
         let broken = self.breakage(&solved);
         let records = self.contact_records(&contacts, &solved, &broken);
@@ -167,7 +186,7 @@ impl World {
         self.time = t1;
         let mut warnings = solved.warnings;
         warnings.extend(self.penetration_warnings(&contacts, step));
-        let events = self.breakage_events(&contacts, &broken, step);
+        events.extend(self.breakage_events(&contacts, &broken, step));
         stages.update = clock.lap();
         Ok(StepRecord {
             step,

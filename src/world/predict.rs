@@ -29,6 +29,7 @@ impl World {
             f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
                 + body.shape_row(p.current, Vec2::y()) * force.y;
         }
+        self.add_connector_loads(&mut f);
         let mut df = vec![0.0; self.dofs.total()];
         for (b, fb) in f.iter().enumerate() {
             self.dofs.scatter_add(&mut df, b, fb);

@@ -96,6 +96,9 @@ impl fmt::Display for Warning {
 pub enum Event {
     /// A cemented contact reached its tensile share and opened (math note §4.5).
     JointBroke { step: usize, body_a: String, body_b: String, point: Vec2 },
+    /// A connector's tension exceeded its strength: it broke for good and the step was solved
+    /// again without it (math note §6).
+    ConnectorBroke { step: usize, connector: String, force: f64 },
 }
 
 impl fmt::Display for Event {
@@ -105,6 +108,10 @@ impl fmt::Display for Event {
                 f,
                 "step {step}: cemented contact between {body_a} and {body_b} at ({}, {}) broke",
                 point.x, point.y
+            ),
+            Event::ConnectorBroke { step, connector, force } => write!(
+                f,
+                "step {step}: connector {connector} broke at axial force {force} N; the step was solved again without it"
             ),
         }
     }

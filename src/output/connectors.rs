@@ -1,0 +1,85 @@
+//! `connectors.csv` (scene-format contract): one row per written step and connector, only for a
+//! scene with connectors. A broken connector is written once more, at the step it broke (state
+//! `broken`, force 0: a broken bolt transmits nothing in the step it breaks in), then no longer.
+
+use super::csv::{Num, OutputError};
+use crate::connector::Connector;
+use crate::world::{StepRecord, World};
+use std::fs::{self, File};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+pub const FILE: &str = "connectors.csv";
+const HEADER: &str =
+    "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state";
+
+pub struct ConnectorWriter {
+    path: PathBuf,
+    out: Option<BufWriter<File>>,
+    every: usize,
+    last_step: usize,
+}
+
+impl ConnectorWriter {
+    /// Creates `DIR/connectors.csv` when the world has connectors. An earlier run's file is
+    /// refused unless `overwrite` (then removed, even when this scene has no connectors).
+    pub fn create(dir: &Path, world: &World, overwrite: bool) -> Result<ConnectorWriter, OutputError> {
+        let path = dir.join(FILE);
+        let io_err = |source| OutputError::Io { path: path.clone(), source };
+        if path.exists() {
+            if !overwrite {
+                return Err(OutputError::WouldMix { dir: dir.to_path_buf(), file: FILE.to_string() });
+            }
+            fs::remove_file(&path).map_err(io_err)?;
+        }
+        let out = if world.connectors.is_empty() {
+            None
+        } else {
+            let mut w = BufWriter::new(File::create(&path).map_err(io_err)?);
+            writeln!(w, "{HEADER}").map_err(io_err)?;
+            Some(w)
+        };
+        let every = world.model.output.every.max(1);
+        Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })
+    }
+
+    pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
+        let Some(out) = &mut self.out else { return Ok(()) };
+        let s = rec.step;
+        if !(s % self.every == 0 || s == self.last_step) {
+            return Ok(());
+        }
+        let mut buf = Vec::new();
+        for c in world.connectors.iter().filter(|c| !c.broken || c.broken_at == Some(s)) {
+            row(&mut buf, world, rec, c)
+                .map_err(|source| OutputError::Io { path: self.path.clone(), source })?;
+        }
+        let io_err = |source| OutputError::Io { path: self.path.clone(), source };
+        out.write_all(&buf).and_then(|_| out.flush()).map_err(io_err)
+    }
+}
+
+fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::Result<()> {
+    let name = |b: usize| world.bodies[b].name.as_str();
+    let opt = |x: Option<f64>| x.map_or(String::new(), |v| Num(v).to_string());
+    let (axial, shear, moments, state) = if c.broken {
+        (0.0, None, None, "broken")
+    } else {
+        (c.axial_force(), c.shear_force(), c.end_moments(), "intact")
+    };
+    writeln!(
+        w,
+        "{},{},{},{},{},{},{},{},{},{},{},{state}",
+        rec.step,
+        Num(rec.time),
+        c.name,
+        c.kind.as_str(),
+        name(c.bodies[0]),
+        name(c.bodies[1]),
+        Num(c.length()),
+        Num(axial),
+        opt(shear),
+        opt(moments.map(|m| m[0])),
+        opt(moments.map(|m| m[1])),
+    )
+}

@@ -1,0 +1,69 @@
+//! Connectors in the step (math note §6): their stiffness joins the clusters' K̃, the force
+//! they carried into the step is a load, a connector whose tension would exceed its strength
+//! breaks and the step is solved again without it, and after the step their forces and anchors
+//! follow the bodies' increments.
+
+use super::{Event, World};
+use crate::body::Dofs;
+use crate::cluster::{CouplingBlock, Flexibility};
+use crate::dofs::DofMap;
+
+impl World {
+    /// Pairs of bodies joined by an intact connector.
+    pub(super) fn coupled_pairs(&self) -> Vec<(usize, usize)> {
+        self.connectors.iter().filter(|c| !c.broken).map(|c| (c.bodies[0], c.bodies[1])).collect()
+    }
+
+    /// The DOF map and clusters for the current connector graph; the factors start afresh.
+    pub(super) fn renumber(&mut self) {
+        self.dofs = DofMap::new(&self.bodies, &self.coupled_pairs());
+        self.flex = Flexibility::new(self.settings.sparse_only);
+    }
+
+    /// Stiffness blocks of the intact connectors, step-start geometry (math note §6).
+    pub(super) fn couplings(&self) -> Vec<CouplingBlock> {
+        self.connectors.iter().flat_map(|c| c.stiffness(&self.bodies)).collect()
+    }
+
+    /// Adds the forces the connectors carried into the step to the bodies' loads (§6).
+    pub(super) fn add_connector_loads(&self, f: &mut [Dofs]) {
+        for c in &self.connectors {
+            for (b, load) in c.carried_load(&self.bodies) {
+                f[b] += load;
+            }
+        }
+    }
+
+    /// Connectors whose tension after the increment `dbar` (a global DOF vector) would exceed
+    /// their strength: they break for good (math note §6), and the caller solves the step again
+    /// without them.
+    pub(super) fn break_connectors(&mut self, dbar: &[f64], step: usize) -> Vec<Event> {
+        let mut events = Vec::new();
+        for k in 0..self.connectors.len() {
+            let mut trial = self.connectors[k].clone();
+            trial.update(&self.bodies, &|b| self.dofs.gather(dbar, b));
+            if trial.exceeds_strength() {
+                let c = &mut self.connectors[k];
+                c.break_off();
+                c.broken_at = Some(step);
+                events.push(Event::ConnectorBroke {
+                    step,
+                    connector: c.name.clone(),
+                    force: trial.axial_force(),
+                });
+            }
+        }
+        events
+    }
+
+    /// After the step, before the bodies move: forces from the increments, anchors moved with
+    /// their bodies (the bodies are still in the step-start state the stiffness was built on).
+    pub(super) fn update_connectors(&mut self, dbar: &[f64]) {
+        let (bodies, dofs) = (&self.bodies, &self.dofs);
+        let d = |b: usize| dofs.gather(dbar, b);
+        for c in &mut self.connectors {
+            c.update(bodies, &d);
+            c.move_anchors(bodies, &d);
+        }
+    }
+}
