@@ -63,6 +63,9 @@ pub struct Connector {
     pub broken: bool,
     /// The step it broke in (it is written to `connectors.csv` once more, at that step).
     pub broken_at: Option<usize>,
+    /// Bolt and finite spring: the unstressed length, so that the axial force after each step is
+    /// recomputed from the anchors' true distance (math note §10.7).
+    rest_length: Option<f64>,
 }
 
 /// One step's element: `e = G[0] d_1 + G[1] d_2`, stiffness `k`, carried force `force` (all in
@@ -94,6 +97,31 @@ impl Connector {
             strength: spec.strength,
             broken: false,
             broken_at: None,
+            rest_length: None,
+        }
+        .with_rest_length()
+    }
+
+    /// The rest length that gives the pretension at the initial length: l_r = l0 − P0/k for a
+    /// spring, l_r = l0 EA/(EA + P0) for a bolt (N = EA (l − l_r)/l_r).
+    fn with_rest_length(mut self) -> Connector {
+        let (ConnectorForce::Axial(p0), l0) = (self.force, self.length()) else { return self };
+        self.rest_length = match self.kind {
+            ConnectorKind::Spring { stiffness } => Some(l0 - p0 / stiffness),
+            ConnectorKind::Bolt { young, area } => Some(l0 * young * area / (young * area + p0)),
+            ConnectorKind::Beam { .. } => None,
+        };
+        self
+    }
+
+    /// Axial force of a bolt or finite spring at the anchors' current distance (math note
+    /// §10.7); `None` for the other kinds.
+    fn axial_from_length(&self) -> Option<f64> {
+        let (rest, l) = (self.rest_length?, self.length());
+        match self.kind {
+            ConnectorKind::Spring { stiffness } => Some(stiffness * (l - rest)),
+            ConnectorKind::Bolt { young, area } => Some(young * area * (l - rest) / rest),
+            ConnectorKind::Beam { .. } => None,
         }
     }
 
@@ -159,7 +187,10 @@ impl Connector {
         }
         let df = &el.k * e;
         self.force = match self.force {
-            ConnectorForce::Axial(n) => ConnectorForce::Axial(n + df[0]),
+            ConnectorForce::Axial(n) => {
+                let (l, _) = self.axis();
+                ConnectorForce::Axial(n + l.x * df[0] + l.y * df[1])
+            }
             ConnectorForce::Isotropic(f) => ConnectorForce::Isotropic(f + Vec2::new(df[0], df[1])),
             ConnectorForce::Beam(f) => {
                 let global = Vector6::from_iterator(df.iter().copied());
@@ -176,6 +207,9 @@ impl Connector {
             if !body.fixed {
                 self.anchors[k] = body.moved_point(self.anchors[k], &d(self.bodies[k]));
             }
+        }
+        if let (false, Some(n)) = (self.broken, self.axial_from_length()) {
+            self.force = ConnectorForce::Axial(n);
         }
     }
 
@@ -252,10 +286,16 @@ impl Connector {
                     ConnectorKind::Spring { stiffness } => stiffness,
                     ConnectorKind::Beam { .. } => unreachable!("a beam carries ConnectorForce::Beam"),
                 };
+                // axial stiffness k l lᵀ plus the geometric stiffness of the tension,
+                // (N/l)(I − l lᵀ): a taut connector that turns keeps its force along the new
+                // axis, and treating that explicitly makes stiff rotating chains unstable
+                // (math note §10.7)
+                let ll = nalgebra::Matrix2::new(l.x * l.x, l.x * l.y, l.x * l.y, l.y * l.y);
+                let km = ll * k + (nalgebra::Matrix2::identity() - ll) * (n.max(0.0) / len);
                 Element {
-                    g: [-row(b[0], a1, l), row(b[1], a2, l)],
-                    k: DMatrix::from_element(1, 1, k),
-                    force: DVector::from_element(1, n),
+                    g: [-t_rows(b[0], a1), t_rows(b[1], a2)],
+                    k: DMatrix::from_column_slice(2, 2, km.as_slice()),
+                    force: DVector::from_column_slice(&[n * l.x, n * l.y]),
                 }
             }
             (ConnectorKind::Beam { .. }, ConnectorForce::Beam(f)) => self.beam_element(b, f),
@@ -291,11 +331,6 @@ fn t_rows(body: &Body, x: Vec2) -> DMatrix<f64> {
     DMatrix::from_fn(2, n, |i, j| if i == 0 { rx[j] } else { ry[j] })
 }
 
-/// `lᵀ T_b(x)`: 1 × ndof.
-fn row(body: &Body, x: Vec2, l: Vec2) -> DMatrix<f64> {
-    let r = body.shape_row(x, l);
-    DMatrix::from_fn(1, body.ndof(), |_, j| r[j])
-}
 
 /// The corrected 2-node Timoshenko beam in global axes, DOFs `(u1x, u1y, θ1, u2x, u2y, θ2)` with
 /// ccw rotations (math note §6; the printed eq. 88 has every A3 sign flipped, typo 12):
