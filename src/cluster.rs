@@ -24,6 +24,7 @@ use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
+use std::sync::Arc;
 
 /// A stiffness block coupling two bodies' DOFs (a connector's contribution): rows in body
 /// `.0`'s DOF order, columns in body `.1`'s.
@@ -41,13 +42,13 @@ pub struct FactorError {
 /// The factorized step stiffness of every cluster.
 #[derive(Debug, Clone, Default)]
 pub struct Flexibility {
-    factors: Vec<Factor>,
+    factors: Vec<Arc<Factor>>,
     /// Route single bodies through the sparse path too (a reference check of that path).
     sparse_only: bool,
 }
 
 #[derive(Debug, Clone)]
-enum Factor {
+pub(crate) enum Factor {
     /// K⁻¹ of one body, padded to 6×6 (closed-form reference path).
     Body(BodyMatrix),
     Sparse(SparseFactor),
@@ -89,17 +90,18 @@ impl Flexibility {
                 Factor::Body(body_flexibility(&bodies[b], own, dt).ok_or_else(failed)?)
             } else {
                 let triplets = cluster_triplets(map, c, bodies, couplings, dt);
-                let mut sparse = match self.factors.get_mut(c).filter(|_| !first) {
-                    Some(Factor::Sparse(s)) => std::mem::replace(s, SparseFactor::new(0)),
+                // reuse the symbolic analysis of the last factor of this cluster
+                let mut sparse = match self.factors.get(c).filter(|_| !first).map(|f| f.as_ref()) {
+                    Some(Factor::Sparse(s)) => s.clone(),
                     _ => SparseFactor::new(map.cluster_range(c).len()),
                 };
                 sparse.factorize(&triplets).map_err(|_| failed())?;
                 Factor::Sparse(sparse)
             };
             if first {
-                self.factors.push(factor);
+                self.factors.push(Arc::new(factor));
             } else {
-                self.factors[c] = factor;
+                self.factors[c] = Arc::new(factor);
             }
         }
         Ok(())
@@ -107,7 +109,41 @@ impl Flexibility {
 
     /// `v ← K̃⁻¹ v` for a vector over cluster `c`'s DOF range.
     pub fn solve_cluster(&self, c: usize, v: &mut [f64]) {
-        match &self.factors[c] {
+        self.factors[c].solve(v);
+    }
+
+    /// `v ← K̃⁻¹ v` for a global DOF vector (clusters are independent).
+    pub fn solve_in_place(&self, map: &DofMap, v: &mut [f64]) {
+        for c in 0..map.clusters() {
+            self.solve_cluster(c, &mut v[map.cluster_range(c)]);
+        }
+    }
+
+    /// A shared handle on cluster `c`'s factor (for a factor-backed W, `delassus.rs`).
+    pub fn solver(&self, c: usize) -> ClusterSolver {
+        ClusterSolver(Arc::clone(&self.factors[c]))
+    }
+
+    /// Whether cluster `c` goes through the sparse factorization.
+    pub fn is_sparse(&self, c: usize) -> bool {
+        matches!(self.factors[c].as_ref(), Factor::Sparse(_))
+    }
+}
+
+/// A cluster's factor, shared: `K̃_c⁻¹ v` without holding the whole [`Flexibility`].
+#[derive(Debug, Clone)]
+pub struct ClusterSolver(Arc<Factor>);
+
+impl ClusterSolver {
+    /// `v ← K̃_c⁻¹ v`.
+    pub fn solve(&self, v: &mut [f64]) {
+        self.0.solve(v);
+    }
+}
+
+impl Factor {
+    fn solve(&self, v: &mut [f64]) {
+        match self {
             Factor::Body(kinv) => {
                 let mut d = Dofs::zeros();
                 d.as_mut_slice()[..v.len()].copy_from_slice(v);
@@ -118,12 +154,6 @@ impl Flexibility {
         }
     }
 
-    /// `v ← K̃⁻¹ v` for a global DOF vector (clusters are independent).
-    pub fn solve_in_place(&self, map: &DofMap, v: &mut [f64]) {
-        for c in 0..map.clusters() {
-            self.solve_cluster(c, &mut v[map.cluster_range(c)]);
-        }
-    }
 }
 
 /// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling

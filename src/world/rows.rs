@@ -12,7 +12,6 @@ use crate::body::Dofs;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
 use crate::jacobian::Jacobian;
-use sprs::CsMat;
 
 /// The linearization of one contact's gap.
 #[derive(Debug, Clone, Copy)]
@@ -36,7 +35,7 @@ pub(super) struct Rows {
     pub lin: Vec<Linearization>,
     pub jac: Jacobian,
     pub q: Vec<f64>,
-    pub w: CsMat<f64>,
+    pub w: delassus::ContactOperator,
     /// Contact k owns rows blocks[k]..blocks[k + 1].
     pub blocks: Vec<usize>,
 }
@@ -65,7 +64,7 @@ impl World {
         for (c, l) in contacts.iter().zip(&lin) {
             q[c.law.row] += l.offset;
         }
-        let w = delassus::assemble(&jac, &self.flex, &self.dofs);
+        let w = delassus::ContactOperator::new(&jac, &self.flex, &self.dofs, delassus::EXPLICIT_LIMIT);
         Rows { lin, jac, q, w, blocks }
     }
 

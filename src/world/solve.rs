@@ -6,7 +6,7 @@ use super::detect::Contact;
 use super::rows::{Linearization, Rows};
 use super::{Pipeline, SolveKind, Warning, World};
 use crate::contact::law::Law;
-use crate::vi::{self, Problem};
+use crate::vi::{self, Operator, Problem};
 use std::time::Instant;
 
 /// Refinements of solve 1 on the mid-step configuration (math note §10.1); the fixed point is
@@ -136,7 +136,9 @@ impl World {
             let q2 = velocity_gaps(contacts, &solve2.q, &state);
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity);
         }
-        let w_diag_max = rows.w.diag_iter().flatten().fold(0.0f64, |m, x| m.max(*x));
+        let mut diagonal = vec![0.0; rows.q.len()];
+        rows.w.diagonal(&mut diagonal);
+        let w_diag_max = diagonal.iter().fold(0.0f64, |m, x| m.max(*x));
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
         Solved { laws, rows, rows2, z1, z2, state, report, warnings, w_diag_max, times }
     }
@@ -177,7 +179,14 @@ impl World {
     /// contacts (math note §10.5).
     fn classify(&self, contacts: &[Contact], rows: &Rows, z: &[f64]) -> Classified {
         let mut gaps = rows.q.clone();
-        sprs::prod::mul_acc_mat_vec_csr(rows.w.view(), z, &mut gaps[..]);
+        match rows.w.as_csr() {
+            Some(w) => sprs::prod::mul_acc_mat_vec_csr(w, z, &mut gaps[..]),
+            None => {
+                let mut wz = vec![0.0; z.len()];
+                rows.w.apply(z, &mut wz);
+                gaps.iter_mut().zip(&wz).for_each(|(g, x)| *g += x);
+            }
+        }
         let touching = self.allowance;
         let closed: Vec<bool> = contacts
             .iter()
