@@ -153,7 +153,6 @@ impl Factor {
             Factor::Sparse(f) => f.solve_in_place(v),
         }
     }
-
 }
 
 /// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling

@@ -331,7 +331,6 @@ fn t_rows(body: &Body, x: Vec2) -> DMatrix<f64> {
     DMatrix::from_fn(2, n, |i, j| if i == 0 { rx[j] } else { ry[j] })
 }
 
-
 /// The corrected 2-node Timoshenko beam in global axes, DOFs `(u1x, u1y, θ1, u2x, u2y, θ2)` with
 /// ccw rotations (math note §6; the printed eq. 88 has every A3 sign flipped, typo 12):
 /// `b = 12 EI k_Be/(G A l²)` (eq. 89), `A1 = EA/l`, `A2 = 12EI/((1+b)l³)`, `A3 = 6EI/((1+b)l²)`,

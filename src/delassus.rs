@@ -17,9 +17,9 @@
 //! solve).
 
 use crate::cluster::{ClusterSolver, Flexibility};
-use crate::vi::Operator;
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment};
+use crate::vi::Operator;
 use sprs::CsMat;
 
 /// Where each cluster's rows sit: for cluster c, the distinct rows of B touching it, with the

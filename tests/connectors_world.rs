@@ -116,7 +116,9 @@ fn incline(strength: Option<f64>, carry: f64, steps: usize, dt: f64) -> (String,
     let l = (b.cos() * s.0 - b.sin() * n.0, b.cos() * s.1 - b.sin() * n.1);
     let anchor = (centre.0 + 2.0 * l.0, centre.1 + 2.0 * l.1);
     let top = at(20.0, 0.0);
-    let fmt = |c: &[(f64, f64)]| c.iter().map(|(x, y)| format!("[{x:.17}, {y:.17}]")).collect::<Vec<_>>().join(", ");
+    let fmt = |c: &[(f64, f64)]| {
+        c.iter().map(|(x, y)| format!("[{x:.17}, {y:.17}]")).collect::<Vec<_>>().join(", ")
+    };
     let strength = strength.map_or(String::new(), |s| format!("strength = {s}"));
     let text = format!(
         r#"
@@ -313,8 +315,15 @@ fn check_cantilever(n: usize, model: &str, shape: &str) {
     let rotation = p * l * l / (2.0 * e * inertia);
     let tip = &w.bodies[n];
     let dy = -tip.centroid.y;
-    assert!((dy - deflection).abs() <= 1e-5 * deflection, "{model} {shape} x{n}: tip {dy}, exact {deflection}");
-    assert!((-tip.rotation - rotation).abs() <= 1e-5 * rotation, "tip rotation {}, exact {rotation}", -tip.rotation);
+    assert!(
+        (dy - deflection).abs() <= 1e-5 * deflection,
+        "{model} {shape} x{n}: tip {dy}, exact {deflection}"
+    );
+    assert!(
+        (-tip.rotation - rotation).abs() <= 1e-5 * rotation,
+        "tip rotation {}, exact {rotation}",
+        -tip.rotation
+    );
     let root = w.connectors[0].end_moments().expect("beam")[0];
     assert!((root.abs() - p * l).abs() <= 1e-5 * p * l, "root moment {root}, exact P L = {}", p * l);
 }

@@ -19,8 +19,8 @@ use pbdda::delassus;
 use pbdda::dofs::DofMap;
 use pbdda::geometry::{Vec2, cw};
 use pbdda::jacobian::Jacobian;
-use pbdda::vi::Operator;
 use pbdda::model::{BodyModel, BodySpec, Material, Plane, Shape};
+use pbdda::vi::Operator;
 use proptest::prelude::*;
 
 fn spec(i: usize, kind: u8, x: f64, y: f64, size: f64, fixed: bool, deformable: bool) -> BodySpec {
@@ -147,7 +147,12 @@ fn check_scene(
         let mut col = vec![0.0; rows];
         op.apply(&e, &mut col);
         for r in 0..rows {
-            prop_assert!((col[r] - w[[r, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())), "operator W[{r},{c}] = {} vs {}", col[r], w[[r, c]]);
+            prop_assert!(
+                (col[r] - w[[r, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())),
+                "operator W[{r},{c}] = {} vs {}",
+                col[r],
+                w[[r, c]]
+            );
         }
         prop_assert!((diag[c] - w[[c, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())));
     }
@@ -171,7 +176,7 @@ fn check_scene(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(200))]
+    #![proptest_config(ProptestConfig { cases: 200, rng_seed: proptest::test_runner::RngSeed::Fixed(20261123), ..ProptestConfig::default() })]
     #[test]
     fn w_is_b_kinv_bt_symmetric_psd((bodies, contacts, springs, dt) in scene()) {
         prop_assume!(!contacts.is_empty());
