@@ -24,7 +24,8 @@ use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
-use std::sync::Arc;
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
 
 /// A stiffness block coupling two bodies' DOFs (a connector's contribution): rows in body
 /// `.0`'s DOF order, columns in body `.1`'s.
@@ -124,6 +125,17 @@ impl Flexibility {
         ClusterSolver(Arc::clone(&self.factors[c]))
     }
 
+    /// `col += Σ_i vals[i] K̃_c⁻¹ e_{start+i}` from the cached unit columns of a sparse cluster
+    /// (cluster-local `start`); `false` (and nothing done) for a single body's closed form.
+    pub fn add_columns(&self, c: usize, start: usize, vals: &[f64], col: &mut [f64]) -> bool {
+        let Factor::Sparse(f) = self.factors[c].as_ref() else { return false };
+        for (i, v) in vals.iter().enumerate().filter(|(_, v)| **v != 0.0) {
+            let unit = f.unit_column(start + i);
+            col.iter_mut().zip(unit.iter()).for_each(|(x, u)| *x += v * u);
+        }
+        true
+    }
+
     /// Whether cluster `c` goes through the sparse factorization.
     pub fn is_sparse(&self, c: usize) -> bool {
         matches!(self.factors[c].as_ref(), Factor::Sparse(_))
@@ -216,7 +228,7 @@ fn cluster_triplets(
 
 /// A sparse SPD matrix factorized by faer's supernodal/simplicial Cholesky, with the
 /// symbolic analysis kept while the sparsity pattern stays the same.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct SparseFactor {
     n: usize,
     /// Sparsity pattern (sorted, deduplicated (row, col) of the lower triangle) of the last
@@ -224,6 +236,22 @@ pub struct SparseFactor {
     pattern: Vec<(usize, usize)>,
     symbolic: Option<SymbolicLlt<usize>>,
     numeric: Option<Llt<usize, f64>>,
+    /// Columns K⁻¹ eᵢ computed since the last numeric factorization (math note §9.3: the
+    /// columns of the DOFs that contacts touch are cached while the factor is unchanged).
+    columns: Mutex<HashMap<usize, Arc<[f64]>>>,
+}
+
+impl Clone for SparseFactor {
+    /// A clone keeps the factorization (and so the symbolic analysis) but not the column cache.
+    fn clone(&self) -> Self {
+        SparseFactor {
+            n: self.n,
+            pattern: self.pattern.clone(),
+            symbolic: self.symbolic.clone(),
+            numeric: self.numeric.clone(),
+            columns: Mutex::new(HashMap::new()),
+        }
+    }
 }
 
 /// The sparse factorization failed (matrix not positive definite, or out of memory).
@@ -233,7 +261,7 @@ pub struct SparseError(String);
 
 impl SparseFactor {
     pub fn new(n: usize) -> SparseFactor {
-        SparseFactor { n, pattern: Vec::new(), symbolic: None, numeric: None }
+        SparseFactor { n, pattern: Vec::new(), symbolic: None, numeric: None, columns: Mutex::new(HashMap::new()) }
     }
 
     /// Number of symbolic analyses done so far is observable through this: the symbolic
@@ -263,7 +291,23 @@ impl SparseFactor {
             Llt::try_new_with_symbolic(symbolic, mat.as_ref(), Side::Lower)
                 .map_err(|e| SparseError(format!("{e:?}")))?,
         );
+        self.columns = Mutex::new(HashMap::new());
         Ok(())
+    }
+
+    /// The column K⁻¹ eᵢ, computed once per factorization.
+    pub fn unit_column(&self, i: usize) -> Arc<[f64]> {
+        if let Some(col) = self.columns.lock().ok().and_then(|c| c.get(&i).cloned()) {
+            return col;
+        }
+        let mut x = vec![0.0; self.n];
+        x[i] = 1.0;
+        self.solve_in_place(&mut x);
+        let col: Arc<[f64]> = x.into();
+        if let Ok(mut cache) = self.columns.lock() {
+            cache.insert(i, Arc::clone(&col));
+        }
+        col
     }
 
     /// `x ← K⁻¹ x` (no-op before a successful factorization).

@@ -242,6 +242,14 @@ fn columns(
         cr.columns = vec![0.0; cr.rows.len() * n];
         for (p, segs) in cr.segments.iter().enumerate() {
             let col = &mut cr.columns[p * n..(p + 1) * n];
+            if flex.is_sparse(c) {
+                // from the cached unit columns of the DOFs touched (math note §9.3)
+                for &si in segs {
+                    let s = &jac.segments[si];
+                    flex.add_columns(c, s.start - range.start, &s.vals.as_slice()[..s.len], col);
+                }
+                continue;
+            }
             for &si in segs {
                 let s = &jac.segments[si];
                 for i in 0..s.len {
