@@ -24,11 +24,15 @@ fn header(text: &mut String, steps: usize) {
 }
 
 fn disk(text: &mut String, name: &str, x: f64, y: f64) {
-    let _ = write!(text, "[[body]]\nname = \"{name}\"\nshape = \"disk\"\ncenter = [{x}, {y}]\nradius = 0.5\nmaterial = \"m\"\n");
+    let _ = write!(
+        text,
+        "[[body]]\nname = \"{name}\"\nshape = \"disk\"\ncenter = [{x}, {y}]\nradius = 0.5\nmaterial = \"m\"\n"
+    );
 }
 
 fn link(text: &mut String, kind: &str, a: &str, b: &str, pa: (f64, f64), pb: (f64, f64)) {
-    let props = if kind == "beam" { "young = 1e9\narea = 0.1\ninertia = 1e-4\n" } else { "stiffness = 1e7\n" };
+    let props =
+        if kind == "beam" { "young = 1e9\narea = 0.1\ninertia = 1e-4\n" } else { "stiffness = 1e7\n" };
     let _ = write!(
         text,
         "[[connector]]\nkind = \"{kind}\"\npoints = [[{}, {}], [{}, {}]]\nbodies = [\"{a}\", \"{b}\"]\n{props}",
@@ -50,10 +54,24 @@ fn plate(n: usize) -> World {
     for j in 0..n {
         for i in 0..n {
             if i + 1 < n {
-                link(&mut t, "beam", &format!("d{i}_{j}"), &format!("d{}_{j}", i + 1), at(i, j), at(i + 1, j));
+                link(
+                    &mut t,
+                    "beam",
+                    &format!("d{i}_{j}"),
+                    &format!("d{}_{j}", i + 1),
+                    at(i, j),
+                    at(i + 1, j),
+                );
             }
             if j + 1 < n {
-                link(&mut t, "beam", &format!("d{i}_{j}"), &format!("d{i}_{}", j + 1), at(i, j), at(i, j + 1));
+                link(
+                    &mut t,
+                    "beam",
+                    &format!("d{i}_{j}"),
+                    &format!("d{i}_{}", j + 1),
+                    at(i, j),
+                    at(i, j + 1),
+                );
             }
         }
     }
@@ -113,7 +131,11 @@ fn connectors(c: &mut Criterion) {
     ];
     for (name, world) in worlds {
         group.bench_function(name, |b| {
-            b.iter_batched(|| world.clone(), |mut w| black_box(w.step().expect("step")), BatchSize::LargeInput)
+            b.iter_batched(
+                || world.clone(),
+                |mut w| black_box(w.step().expect("step")),
+                BatchSize::LargeInput,
+            )
         });
     }
     group.finish();

@@ -261,7 +261,13 @@ pub struct SparseError(String);
 
 impl SparseFactor {
     pub fn new(n: usize) -> SparseFactor {
-        SparseFactor { n, pattern: Vec::new(), symbolic: None, numeric: None, columns: Mutex::new(HashMap::new()) }
+        SparseFactor {
+            n,
+            pattern: Vec::new(),
+            symbolic: None,
+            numeric: None,
+            columns: Mutex::new(HashMap::new()),
+        }
     }
 
     /// Number of symbolic analyses done so far is observable through this: the symbolic
