@@ -2,9 +2,10 @@
 //! columns, it must equal the dense product B K̃⁻¹ Bᵀ, be symmetric, and be positive
 //! semidefinite (zᵀ W z = |K̃^{-1/2} Bᵀ z|² >= 0, §3.2). Random scenes of rigid disks, rings and
 //! polygons with random contacts between random pairs (including fixed bodies, which carry no
-//! DOF, and deformable bodies with 4 and 6 DOF), and random translational springs coupling
-//! random pairs into clusters (sparse Cholesky path); the same scenes with every cluster, single
-//! bodies included, forced through the sparse path; and the operator form (W z = B K̃⁻¹ Bᵀ z by
+//! DOF, and deformable bodies with 4 and 6 DOF), and random couplings of random pairs into
+//! clusters (sparse Cholesky path): a zero-length translational spring plus a bolt, spring or
+//! beam of the engine (math note §6); the same scenes with every cluster, single bodies
+//! included, forced through the sparse path; and the operator form (W z = B K̃⁻¹ Bᵀ z by
 //! solves, with its diagonal) against the same dense product.
 //! Tolerances: 1e-10 relative to the largest entry: the dense reference inverts K̃ by LU, the
 //! code by Cholesky; K̃'s condition number here is at most ~1e8 (mass terms 2m/dt² against
@@ -15,11 +16,12 @@
 use nalgebra::{DMatrix, SymmetricEigen};
 use pbdda::body::Body;
 use pbdda::cluster::{CouplingBlock, Flexibility};
+use pbdda::connector::Connector;
 use pbdda::delassus;
 use pbdda::dofs::DofMap;
 use pbdda::geometry::{Vec2, cw};
 use pbdda::jacobian::Jacobian;
-use pbdda::model::{BodyModel, BodySpec, Material, Plane, Shape};
+use pbdda::model::{BodyModel, BodySpec, ConnectorKind, ConnectorSpec, Material, Plane, Shape};
 use pbdda::vi::Operator;
 use proptest::prelude::*;
 
@@ -84,6 +86,26 @@ fn spring_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<CouplingBlo
     vec![block(a, a, 1.0), block(b, b, 1.0), block(a, b, -1.0), block(b, a, -1.0)]
 }
 
+/// The stiffness blocks of a bolt, spring or beam (by `k`'s decade, math note §6) between bodies a
+/// and b, anchored off their centroids: the connector kinds of the engine in the same clusters.
+fn connector_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<CouplingBlock> {
+    let kind = match (k.log10() as i64) % 3 {
+        0 => ConnectorKind::Spring { stiffness: k },
+        1 => ConnectorKind::Bolt { young: k, area: 1.0 },
+        _ => ConnectorKind::Beam {
+            young: k,
+            area: 1e-2,
+            inertia: 1e-5,
+            shear_modulus: k / 2.6,
+            shear_factor: 1.2,
+        },
+    };
+    let points = [bodies[a].centroid + Vec2::new(0.1, 0.05), bodies[b].centroid + Vec2::new(-0.07, 0.2)];
+    let spec =
+        ConnectorSpec { name: "c".into(), kind, bodies: [a, b], points, pretension: 0.0, strength: None };
+    Connector::from_spec(&spec).stiffness(bodies)
+}
+
 fn check_scene(
     bodies: &[Body],
     contacts: &[(usize, usize, Vec2, Vec2)],
@@ -96,7 +118,11 @@ fn check_scene(
     let couplings: Vec<CouplingBlock> = springs
         .iter()
         .filter(|&&(a, b, _)| !bodies[a].fixed && !bodies[b].fixed)
-        .flat_map(|&(a, b, k)| spring_blocks(bodies, a, b, k))
+        .flat_map(|&(a, b, k)| {
+            let mut blocks = spring_blocks(bodies, a, b, k);
+            blocks.extend(connector_blocks(bodies, a, b, k));
+            blocks
+        })
         .collect();
     let mut flex = Flexibility::new(sparse_only);
     flex.refresh(&map, bodies, &couplings, dt).expect("K̃ is SPD");
