@@ -11,8 +11,8 @@ pub(super) struct Contact {
     pub geom: ContactGeom,
     pub law: Law,
     pub memory: Option<Memory>,
-    /// g0 as the solver sees it: a penetration shallower than the allowance counts as
-    /// touching (math note §10.2).
+    /// g0 as the solver sees it: a gap or penetration within the allowance counts as touching
+    /// (math note §10.2).
     pub start_gap: f64,
 }
 
@@ -35,7 +35,7 @@ impl World {
                 let memory = self.memory.get(&geom.key).copied();
                 let law = self.law(&geom, partner, memory, row);
                 row += law.rows();
-                let start_gap = if geom.g0 < 0.0 && geom.g0 > -self.allowance { 0.0 } else { geom.g0 };
+                let start_gap = if geom.g0.abs() < self.allowance { 0.0 } else { geom.g0 };
                 Contact { geom, law, memory, start_gap }
             })
             .collect()

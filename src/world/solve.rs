@@ -162,9 +162,9 @@ impl World {
     }
 
     /// Solve 2 changes the forces only when some contact closed in solve 1 started the step
-    /// with a gap beyond the allowance (math note §1.3 d, §10.5).
+    /// with a gap the solver sees (|g0| beyond the allowance: math note §1.3 d, §10.2, §10.5).
     fn needs_velocity_solve(&self, contacts: &[Contact], state: &Classified) -> bool {
-        contacts.iter().zip(&state.closed).any(|(c, &closed)| closed && c.start_gap.abs() > self.allowance)
+        contacts.iter().zip(&state.closed).any(|(c, &closed)| closed && c.start_gap != 0.0)
     }
 
     /// Ten times the gap accuracy of a solve: tolerance × max(1, |z|max) × max W_jj (the
