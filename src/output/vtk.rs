@@ -23,7 +23,7 @@
 //!
 //! | array | code |
 //! |---|---|
-//! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB contact, 20 connector, 30 mesh triangle |
+//! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB, 13 LL, 14 PL, 15 BL contact, 20 connector, 30 mesh triangle |
 //! | `state` | −1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken connector |
 //!
 //! The legend is repeated as a comment in `scene.pvd`.
@@ -65,6 +65,9 @@ pub fn contact_kind(k: ContactKind) -> i32 {
         ContactKind::PP => 10,
         ContactKind::PB => 11,
         ContactKind::BB => 12,
+        ContactKind::LL => 13,
+        ContactKind::PL => 14,
+        ContactKind::BL => 15,
     }
 }
 
