@@ -149,7 +149,7 @@ impl Body {
             material: spec.material,
             fixed: spec.fixed,
             deformable: !spec.fixed,
-            outline: Outline::Polygon { convex: convex_flags(&vertices), vertices },
+            outline: Outline::Polygon { convex: loop_contact_flags(&vertices), vertices },
             centroid: fe.centroid(),
             rotation: 0.0,
             mass: fe.mass(),
@@ -170,7 +170,7 @@ impl Body {
     fn sync_mesh(&mut self) {
         let Some(fe) = &self.mesh else { return };
         let vertices = fe.outline();
-        self.outline = Outline::Polygon { convex: convex_flags(&vertices), vertices };
+        self.outline = Outline::Polygon { convex: loop_contact_flags(&vertices), vertices };
         self.centroid = fe.centroid();
         self.rotation = fe.rotation;
         let (v, omega) = if self.fixed { (Vec2::zeros(), 0.0) } else { fe.mean_motion() };
@@ -465,6 +465,19 @@ pub fn constitutive(e: f64, nu: f64, plane: Plane) -> Matrix3<f64> {
             )
         }
     }
+}
+
+/// Which vertices of a mesh's outer loop make contacts (math note §9.2: every boundary node
+/// carries its own contact): the convex ones and the straight ones (within 1e-9 rad of 180°),
+/// which on a rigid polygon would never be nearest to another body but on a mesh are nodes.
+pub fn loop_contact_flags(v: &[Vec2]) -> Vec<bool> {
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
+            cross(a, b) > -1e-9 * a.norm() * b.norm()
+        })
+        .collect()
 }
 
 /// Convex flags of a counter-clockwise polygon's vertices (interior angle below 180°).
