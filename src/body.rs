@@ -468,14 +468,16 @@ pub fn constitutive(e: f64, nu: f64, plane: Plane) -> Matrix3<f64> {
 }
 
 /// Which vertices of a mesh's outer loop make contacts (math note §9.2: every boundary node
-/// carries its own contact): the convex ones and the straight ones (within 1e-9 rad of 180°),
-/// which on a rigid polygon would never be nearest to another body but on a mesh are nodes.
+/// carries its own contact): the convex ones and the straight ones, which on a rigid polygon
+/// would never be nearest to another body but on a mesh are nodes that move on their own. A
+/// straight node that the load pushes slightly inwards stays a contact node: up to 3° (sin = 0.05)
+/// past 180°.
 pub fn loop_contact_flags(v: &[Vec2]) -> Vec<bool> {
     let n = v.len();
     (0..n)
         .map(|i| {
             let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
-            cross(a, b) > -1e-9 * a.norm() * b.norm()
+            cross(a, b) > -0.05 * a.norm() * b.norm()
         })
         .collect()
 }

@@ -18,6 +18,9 @@ pub struct MeshBody {
     pub reference: Vec<Vec2>,
     /// Node positions now.
     pub nodes: Vec<Vec2>,
+    /// Accumulated displacement of each node, summed from the step increments (more precise than
+    /// `nodes - reference` when the displacements are small against the coordinates).
+    pub displacement: Vec<Vec2>,
     /// Counter-clockwise triangles (node indices).
     pub triangles: Vec<[usize; 3]>,
     /// Sparse pattern over the free nodes' DOFs.
@@ -63,6 +66,7 @@ impl MeshBody {
         let mut body = MeshBody {
             reference: m.nodes.clone(),
             nodes: m.nodes.clone(),
+            displacement: vec![Vec2::zeros(); m.nodes.len()],
             triangles: m.triangles.clone(),
             has_fixed: !shape.fixed_nodes.is_empty(),
             outer,
@@ -301,7 +305,10 @@ impl MeshBody {
             let rel = self.nodes[n] - c;
             // remainder w = u − t − θ ẑ × r, carried with the rotation
             let w = u - t - Vec2::new(-theta * rel.y, theta * rel.x);
-            self.nodes[n] = c + t + r * (rel + w);
+            // x' = c + t + R (r + w), as an increment: t + (R - I) r + R w
+            let step = t + (r - Matrix2::identity()) * rel + r * w;
+            self.nodes[n] += step;
+            self.displacement[n] += step;
             let v0 = Vec2::new(self.velocity[d], self.velocity[d + 1]) * v0_scale;
             let v1 = r * (Vec2::new(dvel[d], dvel[d + 1]) * (2.0 / dt) - v0);
             self.velocity[d] = v1.x;
