@@ -39,8 +39,10 @@ pub struct MeshBody {
     pub stress: Vec<Vector3<f64>>,
     /// Constitutive matrix D (math note §2.3).
     pub elastic: Matrix3<f64>,
-    /// ρ [kg/m³].
+    /// ρ [kg/m³] of the initial configuration.
     pub density: f64,
+    /// Initial area of each element: its mass ρ A_e0 is conserved as it deforms.
+    pub initial_area: Vec<f64>,
     /// Accumulated rigid rotation of the mesh (the mean rotation of §9.4) [rad].
     pub rotation: f64,
 }
@@ -77,6 +79,7 @@ impl MeshBody {
             stress: vec![Vector3::from(initial_stress); ne],
             elastic,
             density,
+            initial_area: m.triangles.iter().map(|&t| Tri3::of(&m.nodes, t).area).collect(),
             rotation: 0.0,
         };
         let c = body.centroid();
@@ -99,6 +102,11 @@ impl MeshBody {
         Tri3::of(&self.nodes, self.triangles[e])
     }
 
+    /// Current density of element `e` (shape `t`): its mass ρ A_e0 over its current area.
+    fn rho(&self, e: usize, t: &Tri3) -> f64 {
+        self.density * self.initial_area[e] / t.area
+    }
+
     /// Current area Σ A_e.
     pub fn area(&self) -> f64 {
         (0..self.triangles.len()).map(|e| self.element(e).area).sum()
@@ -106,7 +114,7 @@ impl MeshBody {
 
     /// Mass ρ Σ A_e of the initial configuration (conserved).
     pub fn mass(&self) -> f64 {
-        self.density * self.triangles.iter().map(|&t| Tri3::of(&self.reference, t).area).sum::<f64>()
+        self.density * self.initial_area.iter().sum::<f64>()
     }
 
     /// Area centroid of the current configuration.
@@ -124,7 +132,7 @@ impl MeshBody {
     fn nodal_masses(&self) -> Vec<f64> {
         let mut m = vec![0.0; self.nodes.len()];
         for (e, t) in self.triangles.iter().enumerate() {
-            let me = self.density * self.element(e).area / 3.0;
+            let me = self.density * self.initial_area[e] / 3.0;
             t.iter().for_each(|&n| m[n] += me);
         }
         m
@@ -142,7 +150,7 @@ impl MeshBody {
         let c = 2.0 / (dt * dt);
         self.pattern.assemble(&mut values, |e| {
             let t = self.element(e);
-            t.stiffness(&self.elastic) + t.mass(self.density) * c
+            t.stiffness(&self.elastic) + t.mass(self.rho(e, &t)) * c
         });
         let p = &self.pattern;
         let mut out = Vec::with_capacity(p.nnz() / 2 + p.n_dof);
@@ -161,8 +169,8 @@ impl MeshBody {
         let v0: Vec<f64> = self.velocity.iter().map(|v| v * v0_scale).collect();
         self.pattern.assemble_vector(|e| {
             let t = self.element(e);
-            t.mass(self.density) * self.pattern.gather(&v0, e) * (2.0 / dt)
-                + t.body_force(self.density, gravity)
+            t.mass(self.rho(e, &t)) * self.pattern.gather(&v0, e) * (2.0 / dt)
+                + t.body_force(self.rho(e, &t), gravity)
                 + t.stress_load(&self.stress[e])
         })
     }
@@ -243,9 +251,10 @@ impl MeshBody {
 
     /// Kinetic energy ½ vᵀ M v with the consistent mass.
     pub fn kinetic_energy(&self) -> f64 {
-        let mv = self
-            .pattern
-            .assemble_vector(|e| self.element(e).mass(self.density) * self.pattern.gather(&self.velocity, e));
+        let mv = self.pattern.assemble_vector(|e| {
+            let t = self.element(e);
+            t.mass(self.rho(e, &t)) * self.pattern.gather(&self.velocity, e)
+        });
         0.5 * mv.iter().zip(&self.velocity).map(|(a, b)| a * b).sum::<f64>()
     }
 
