@@ -322,7 +322,26 @@ pub fn step_grid(world: &World, rec: &StepRecord) -> Grid {
     let mut grid = Grid::default();
     add_bodies(&mut grid, world);
     add_contacts(&mut grid, rec);
+    for (i, b) in world.bodies.iter().enumerate() {
+        if let Some(fe) = &b.mesh {
+            add_mesh(&mut grid, &mesh_cells(i, fe));
+        }
+    }
     grid
+}
+
+/// The cells of a mesh body (math note §9): its triangles on the current nodes, the nodes'
+/// accumulated displacement, the elements' stress and strain.
+pub fn mesh_cells(body: usize, fe: &crate::mesh::body::MeshBody) -> MeshCells {
+    let triple = |v: &nalgebra::Vector3<f64>| [v[0], v[1], v[2]];
+    MeshCells {
+        body: body as i32,
+        nodes: fe.nodes.clone(),
+        displacement: fe.displacement.clone(),
+        triangles: fe.triangles.clone(),
+        stress: fe.stress.iter().map(triple).collect(),
+        strain: fe.strain.iter().map(triple).collect(),
+    }
 }
 
 /// Writes `DIR/vtk/` as the run goes.
