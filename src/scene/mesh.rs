@@ -35,14 +35,12 @@ pub(super) fn shape(b: &raw::Body, header: &Range<usize>, dir: &Path) -> Check<S
     let mesh = mesh.transformed(scale, offset);
     let fixed_nodes = match &b.fixed_nodes {
         Some(groups) => {
+            // each group on its own, so that an error points at the group it names
+            for g in groups.get_ref() {
+                mesh.node_set(&[g.get_ref().as_str()]).map_err(|e| problem(g.span(), &e))?;
+            }
             let keys: Vec<&str> = groups.get_ref().iter().map(|g| g.get_ref().as_str()).collect();
-            let at = |e: &crate::mesh::MeshError| {
-                // point at the group the error names, else at the whole array
-                let bad =
-                    groups.get_ref().iter().find(|g| e.to_string().contains(&format!("\"{}\"", g.get_ref())));
-                problem(bad.map_or(groups.span(), Spanned::span), e)
-            };
-            mesh.node_set(&keys).map_err(|e| at(&e))?
+            mesh.node_set(&keys).map_err(|e| problem(groups.span(), &e))?
         }
         None => Vec::new(),
     };
