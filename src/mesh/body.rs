@@ -155,9 +155,10 @@ impl MeshBody {
         let p = &self.pattern;
         let mut out = Vec::with_capacity(p.nnz() / 2 + p.n_dof);
         for col in 0..p.n_dof {
-            for k in p.indptr[col]..p.indptr[col + 1] {
-                if p.indices[k] >= col {
-                    out.push((p.indices[k], col, values[k]));
+            let span = p.indptr[col]..p.indptr[col + 1];
+            for (&row, &v) in p.indices[span.clone()].iter().zip(&values[span]) {
+                if row >= col {
+                    out.push((row, col, v));
                 }
             }
         }
@@ -272,10 +273,10 @@ impl MeshBody {
         let total: f64 = m.iter().sum();
         let t = (0..self.nodes.len()).map(|n| self.node_value(u, n) * m[n]).sum::<Vec2>() / total;
         let (mut num, mut den) = (0.0, 0.0);
-        for n in 0..self.nodes.len() {
-            let r = self.nodes[n] - c;
-            num += m[n] * cross(r, self.node_value(u, n) - t);
-            den += m[n] * r.norm_squared();
+        for (n, (&x, &mn)) in self.nodes.iter().zip(&m).enumerate() {
+            let r = x - c;
+            num += mn * cross(r, self.node_value(u, n) - t);
+            den += mn * r.norm_squared();
         }
         (t, if den > 0.0 { num / den } else { 0.0 })
     }
