@@ -108,3 +108,14 @@ fn misplaced_and_missing_mesh_keys() {
     let soft = mesh_scene("").replace("young = 1.0e9\n", "");
     fails(&soft, "13 body[0].material", &["young"]);
 }
+
+/// Connectors anchored on a mesh body are not supported yet: an error at the connector's
+/// `points` (line 24 here), naming the mesh body, instead of a wrong coupling.
+#[test]
+fn connectors_on_meshes_are_rejected() {
+    let text = mesh_scene(concat!(
+        "[[body]]\nname = \"d\"\nshape = \"disk\"\ncenter = [3.0, 0.4]\nradius = 0.5\nmaterial = \"rock\"\n",
+        "[[connector]]\nkind = \"spring\"\npoints = [[0.5, 0.4], [3.0, 0.4]]\nstiffness = 1.0e6\n",
+    ));
+    fails(&text, "24 connector[0].points", &["mesh body \"m\"", "not supported yet"]);
+}
