@@ -6,6 +6,7 @@
 
 use crate::contact::BodyShape;
 use crate::geometry::{Vec2, cross, polygon_moments};
+use crate::mesh::body::MeshBody;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -69,11 +70,18 @@ pub struct Body {
     /// Constitutive matrix D (math note §2.3); zero for rigid bodies.
     elastic: Matrix3<f64>,
     moments: Moments,
+    /// The finite-element state of a mesh body (math note §9); `None` for every other body. The
+    /// fields above then summarize it: outline = outer boundary loop, centroid, mean rotation,
+    /// mean velocity and angular velocity (`velocity[0..3]`), mass.
+    pub mesh: Option<Box<MeshBody>>,
 }
 
 impl Body {
     /// Builds a body in its initial configuration from its validated spec.
     pub fn new(spec: &BodySpec, material: &Material, plane: Plane) -> Body {
+        if let Shape::Mesh(m) = &spec.shape {
+            return Body::mesh(spec, m, material, plane);
+        }
         let (outline, centroid) = match &spec.shape {
             Shape::Disk { center, radius } => (Outline::Disk { radius: *radius }, *center),
             Shape::Ring { center, outer, inner } => (Outline::Ring { outer: *outer, inner: *inner }, *center),
@@ -81,6 +89,7 @@ impl Body {
                 let outline = Outline::Polygon { vertices: vertices.clone(), convex: convex_flags(vertices) };
                 (outline, polygon_moments(vertices).centroid)
             }
+            Shape::Mesh(_) => unreachable!("mesh bodies are built by Body::mesh"),
         };
         let deformable = spec.model == BodyModel::Deformable && !spec.fixed;
         let elastic = match (deformable, material.young, material.poisson) {
@@ -102,6 +111,7 @@ impl Body {
             stress: Vector3::from(spec.initial_stress.unwrap_or([0.0; 3])),
             elastic,
             moments: Moments { area: 0.0, sxx: 0.0, syy: 0.0, sxy: 0.0 },
+            mesh: None,
         };
         body.refresh_geometry();
         body.mass = material.density * body.moments.area;
@@ -116,6 +126,82 @@ impl Body {
             body.stress = Vector3::new(s0, s0, 0.0);
         }
         body
+    }
+
+    /// A mesh body (math note §9): always finite elements, whatever `model` says; a material
+    /// without `young`/`poisson` (rejected by the scene) gives a zero D.
+    fn mesh(spec: &BodySpec, shape: &crate::model::MeshShape, material: &Material, plane: Plane) -> Body {
+        let elastic = match (material.young, material.poisson) {
+            (Some(e), Some(nu)) => constitutive(e, nu, plane),
+            _ => Matrix3::zeros(),
+        };
+        let fe = MeshBody::new(
+            shape,
+            material.density,
+            elastic,
+            spec.initial_stress.unwrap_or([0.0; 3]),
+            spec.velocity,
+            spec.angular_velocity,
+        );
+        let vertices = fe.outline();
+        let mut body = Body {
+            name: spec.name.clone(),
+            material: spec.material,
+            fixed: spec.fixed,
+            deformable: !spec.fixed,
+            outline: Outline::Polygon { convex: loop_contact_flags(&vertices), vertices },
+            centroid: fe.centroid(),
+            rotation: 0.0,
+            mass: fe.mass(),
+            reach: 0.0,
+            velocity: Dofs::zeros(),
+            strain: Vector3::zeros(),
+            stress: Vector3::zeros(),
+            elastic: Matrix3::zeros(),
+            moments: Moments { area: 0.0, sxx: 0.0, syy: 0.0, sxy: 0.0 },
+            mesh: Some(Box::new(fe)),
+        };
+        body.sync_mesh();
+        body
+    }
+
+    /// Refreshes the summary fields of a mesh body from its nodes (outline, centroid, mean
+    /// rotation and velocity).
+    fn sync_mesh(&mut self) {
+        let Some(fe) = &self.mesh else { return };
+        let vertices = fe.outline();
+        self.outline = Outline::Polygon { convex: loop_contact_flags(&vertices), vertices };
+        self.centroid = fe.centroid();
+        self.rotation = fe.rotation;
+        let (v, omega) = if self.fixed { (Vec2::zeros(), 0.0) } else { fe.mean_motion() };
+        self.velocity = Dofs::zeros();
+        (self.velocity[0], self.velocity[1], self.velocity[2]) = (v.x, v.y, omega);
+        self.refresh_geometry();
+    }
+
+    /// Applies a mesh body's step (math note §1.3, §9.4) from its parts `dbar`, `dvel` of the
+    /// global vectors; `v0_scale` is the factor v0 = v0_scale × v of this step. No-op for others.
+    pub fn apply_mesh_step(&mut self, dbar: &[f64], dvel: &[f64], v0_scale: f64, dt: f64) {
+        if self.fixed {
+            return;
+        }
+        if let Some(fe) = &mut self.mesh {
+            fe.apply(dbar, dvel, v0_scale, dt);
+            self.sync_mesh();
+        }
+    }
+
+    /// Upper bound of the displacement of any point of the body under its part `d` of a global
+    /// DOF vector (any body kind).
+    pub fn max_motion(&self, d: &[f64]) -> f64 {
+        match &self.mesh {
+            Some(fe) => fe.max_motion(d),
+            None => {
+                let mut dofs = Dofs::zeros();
+                dofs.as_mut_slice()[..d.len()].copy_from_slice(d);
+                self.max_displacement(&dofs)
+            }
+        }
     }
 
     /// Recomputes the moments and reach of the current outline.
@@ -146,6 +232,9 @@ impl Body {
 
     /// Number of degrees of freedom.
     pub fn ndof(&self) -> usize {
+        if let (Some(fe), false) = (&self.mesh, self.fixed) {
+            return fe.ndof();
+        }
         match (self.fixed, self.deformable, self.is_particle()) {
             (true, _, _) => 0,
             (false, false, _) => 3,
@@ -261,6 +350,9 @@ impl Body {
 
     /// Velocity of the material point at `x` (same map as [`Self::displacement`]).
     pub fn point_velocity(&self, x: Vec2) -> Vec2 {
+        if let Some(fe) = &self.mesh {
+            return fe.point_velocity(x);
+        }
         self.displacement(x, &self.velocity)
     }
 
@@ -344,6 +436,9 @@ impl Body {
 
     /// Kinetic energy ½ vᵀ M v.
     pub fn kinetic_energy(&self) -> f64 {
+        if let Some(fe) = &self.mesh {
+            return fe.kinetic_energy();
+        }
         0.5 * self.velocity.dot(&(self.mass_matrix() * self.velocity))
     }
 }
@@ -370,6 +465,21 @@ pub fn constitutive(e: f64, nu: f64, plane: Plane) -> Matrix3<f64> {
             )
         }
     }
+}
+
+/// Which vertices of a mesh's outer loop make contacts (math note §9.2: every boundary node
+/// carries its own contact): the convex ones and the straight ones, which on a rigid polygon
+/// would never be nearest to another body but on a mesh are nodes that move on their own. A
+/// straight node that the load pushes slightly inwards stays a contact node: up to 3° (sin = 0.05)
+/// past 180°.
+pub fn loop_contact_flags(v: &[Vec2]) -> Vec<bool> {
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
+            cross(a, b) > -0.05 * a.norm() * b.norm()
+        })
+        .collect()
 }
 
 /// Convex flags of a counter-clockwise polygon's vertices (interior angle below 180°).

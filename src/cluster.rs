@@ -84,7 +84,8 @@ impl Flexibility {
                 continue;
             }
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
-            let factor = if members.len() == 1 && !self.sparse_only {
+            let single = members.len() == 1 && bodies[members[0]].mesh.is_none();
+            let factor = if single && !self.sparse_only {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
                 let own = couplings.iter().filter(|(i, j, _)| *i == b && *j == b).map(|(_, _, k)| k);
@@ -207,6 +208,14 @@ fn cluster_triplets(
         }
     };
     for &b in map.members(c) {
+        if let Some(fe) = &bodies[b].mesh {
+            // a mesh body: its assembled K̄ = Σ K_e + (2/dt²) M_e (math note §9.1)
+            let at = map.range(b).start;
+            for (i, j, v) in fe.step_triplets(dt) {
+                push(at + i, at + j, v);
+            }
+            continue;
+        }
         let k = bodies[b].elastic_stiffness() + bodies[b].mass_matrix() * (2.0 / (dt * dt));
         let r = map.range(b);
         for i in 0..r.len() {

@@ -114,6 +114,19 @@ pub enum Shape {
     Polygon {
         vertices: Vec<Vec2>,
     },
+    /// A triangle mesh from gmsh, always finite elements (math note §9).
+    Mesh(Box<MeshShape>),
+}
+
+/// A mesh body's geometry as the scene gives it: the selected surface, scaled and offset, and the
+/// nodes without DOFs (`fixed_nodes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshShape {
+    /// The selected physical surface in its initial position (scene keys `physical`, `scale`,
+    /// `offset` applied).
+    pub mesh: crate::mesh::Mesh,
+    /// Sorted indices into `mesh.nodes` of the nodes of the `fixed_nodes` groups.
+    pub fixed_nodes: Vec<usize>,
 }
 
 impl Shape {
@@ -128,6 +141,7 @@ impl Shape {
                 r <= outer * (1.0 + 1e-9) && r >= inner * (1.0 - 1e-9)
             }
             Shape::Polygon { vertices } => polygon_contains(vertices, p),
+            Shape::Mesh(m) => m.mesh.locate(p, 1e-9).is_some(),
         }
     }
 }

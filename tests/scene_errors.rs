@@ -626,17 +626,7 @@ fn velocity_is_a_finite_pair() {
 
 // ------------------------------------------------------------------ not supported yet
 
-#[test]
-fn mesh_shape_is_not_supported_yet() {
-    let mesh = second_body("mesh", "file = \"meshes/slab.msh\"\n");
-    fails(&mesh, "17 body[1].shape: shape = \"mesh\" is not supported yet");
-}
-
-#[test]
-fn mesh_keys_are_not_supported_yet() {
-    fails(&body_with("file = \"slab.msh\""), "15 body[0].file: not supported yet");
-    fails(&body_with("physical = \"slab\""), "15 body[0].physical: not supported yet");
-}
+// mesh bodies: tests/mesh_scene.rs
 
 #[test]
 fn deformable_body_needs_young_and_poisson() {

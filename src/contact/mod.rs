@@ -35,12 +35,16 @@ pub enum BodyShape {
     },
 }
 
-/// `PP` particle-particle, `PB` particle-block, `BB` block-block (contacts.csv `kind`).
+/// `PP` particle-particle, `PB` particle-block, `BB` block-block; on a mesh's boundary loop (math
+/// note §9.2) `LL` loop-loop, `PL` particle-loop, `BL` block-loop (contacts.csv `kind`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ContactKind {
     PP,
     PB,
     BB,
+    LL,
+    PL,
+    BL,
 }
 
 impl ContactKind {
@@ -49,7 +53,23 @@ impl ContactKind {
             ContactKind::PP => "PP",
             ContactKind::PB => "PB",
             ContactKind::BB => "BB",
+            ContactKind::LL => "LL",
+            ContactKind::PL => "PL",
+            ContactKind::BL => "BL",
         }
+    }
+}
+
+/// Renames the kinds of contacts on mesh bodies (`mesh[b]`): a mesh's outer loop is detected as a
+/// polygon block (math note §9.2: L-L as B-B, P-L as P-B, B-L as B-B).
+pub fn label_mesh_kinds(geoms: &mut [ContactGeom], mesh: &[bool]) {
+    for g in geoms {
+        g.kind = match (g.kind, mesh[g.a], mesh[g.b]) {
+            (ContactKind::PB, true, _) | (ContactKind::PB, _, true) => ContactKind::PL,
+            (ContactKind::BB, true, true) => ContactKind::LL,
+            (ContactKind::BB, true, false) | (ContactKind::BB, false, true) => ContactKind::BL,
+            (kind, _, _) => kind,
+        };
     }
 }
 

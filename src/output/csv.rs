@@ -144,7 +144,8 @@ impl CsvWriter {
                 Num(v[1]),
                 Num(v[2])
             )?;
-            if b.deformable {
+            // a mesh body: centroid, mean rotation and velocity only (its elements go to VTK)
+            if b.deformable && b.mesh.is_none() {
                 for x in b.strain.iter().chain(b.stress.iter()) {
                     write!(self.bodies, ",{}", Num(*x))?;
                 }

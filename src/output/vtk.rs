@@ -23,7 +23,7 @@
 //!
 //! | array | code |
 //! |---|---|
-//! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB contact, 20 connector, 30 mesh triangle |
+//! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB, 13 LL, 14 PL, 15 BL contact, 20 connector, 30 mesh triangle |
 //! | `state` | −1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken connector |
 //!
 //! The legend is repeated as a comment in `scene.pvd`.
@@ -65,6 +65,9 @@ pub fn contact_kind(k: ContactKind) -> i32 {
         ContactKind::PP => 10,
         ContactKind::PB => 11,
         ContactKind::BB => 12,
+        ContactKind::LL => 13,
+        ContactKind::PL => 14,
+        ContactKind::BL => 15,
     }
 }
 
@@ -320,6 +323,11 @@ pub fn step_grid(world: &World, rec: &StepRecord) -> Grid {
     add_bodies(&mut grid, world);
     add_contacts(&mut grid, rec);
     add_lines(&mut grid, &connector_lines(world, rec.step));
+    for (i, b) in world.bodies.iter().enumerate() {
+        if let Some(fe) = &b.mesh {
+            add_mesh(&mut grid, &mesh_cells(i, fe));
+        }
+    }
     grid
 }
 
@@ -343,6 +351,20 @@ pub fn connector_lines(world: &World, step: usize) -> Vec<LineCell> {
             },
         })
         .collect()
+}
+
+/// The cells of a mesh body (math note §9): its triangles on the current nodes, the nodes'
+/// accumulated displacement, the elements' stress and strain.
+pub fn mesh_cells(body: usize, fe: &crate::mesh::body::MeshBody) -> MeshCells {
+    let triple = |v: &nalgebra::Vector3<f64>| [v[0], v[1], v[2]];
+    MeshCells {
+        body: body as i32,
+        nodes: fe.nodes.clone(),
+        displacement: fe.displacement.clone(),
+        triangles: fe.triangles.clone(),
+        stress: fe.stress.iter().map(triple).collect(),
+        strain: fe.strain.iter().map(triple).collect(),
+    }
 }
 
 /// Writes `DIR/vtk/` as the run goes.

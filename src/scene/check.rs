@@ -21,14 +21,14 @@ pub(super) type Check<T> = Result<T, Problem>;
 pub(super) type Names<'a> = HashMap<&'a str, usize>;
 
 /// Validates the whole scene, in the contract's table order.
-pub(super) fn model(raw: &raw::Scene) -> Check<Model> {
+pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
     let time = time(&raw.time)?;
     let physics = physics(&raw.physics)?;
     let contact = contact(&raw.contact)?;
     let solver = solver(&raw.solver)?;
     let (materials, material_names) = materials(&raw.material)?;
     let interfaces = interfaces(&raw.interface, &material_names)?;
-    let (bodies, body_names) = bodies(&raw.body, &material_names, &materials)?;
+    let (bodies, body_names) = bodies(&raw.body, &material_names, &materials, dir)?;
     let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
     let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
@@ -301,39 +301,52 @@ fn friction(r: &raw::Interface) -> Check<f64> {
 
 // ---------------------------------------------------------------- bodies
 
-/// The supported shapes; `"mesh"` is in the contract but not supported yet.
+/// The shapes of the contract.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum ShapeKind {
     Disk,
     Ring,
     Polygon,
+    Mesh,
 }
 
-const SHAPES: [(&str, ShapeKind); 3] =
-    [("disk", ShapeKind::Disk), ("ring", ShapeKind::Ring), ("polygon", ShapeKind::Polygon)];
+const SHAPES: [(&str, ShapeKind); 4] = [
+    ("disk", ShapeKind::Disk),
+    ("ring", ShapeKind::Ring),
+    ("polygon", ShapeKind::Polygon),
+    ("mesh", ShapeKind::Mesh),
+];
 
 fn bodies<'a>(
     raw: &'a Spanned<Vec<Spanned<raw::Body>>>,
     materials: &Names,
     material_list: &[Material],
+    dir: &std::path::Path,
 ) -> Check<(Vec<BodySpec>, Names<'a>)> {
     if raw.get_ref().is_empty() {
         return fail(raw.span(), "a scene needs at least one [[body]]");
     }
     let names = unique_names(raw.get_ref().iter().map(|b| &b.get_ref().name), "body")?;
-    let list = raw.get_ref().iter().map(|b| body(b, materials, material_list)).collect::<Check<_>>()?;
+    let list = raw.get_ref().iter().map(|b| body(b, materials, material_list, dir)).collect::<Check<_>>()?;
     Ok((list, names))
 }
 
-fn body(b: &Spanned<raw::Body>, materials: &Names, material_list: &[Material]) -> Check<BodySpec> {
+fn body(
+    b: &Spanned<raw::Body>,
+    materials: &Names,
+    material_list: &[Material],
+    dir: &std::path::Path,
+) -> Check<BodySpec> {
     let (header, b) = (b.span(), b.get_ref());
-    if b.shape.get_ref() == "mesh" {
-        return fail(b.shape.span(), "shape = \"mesh\" is not supported yet");
-    }
     let kind = choice(&b.shape, "shape", &SHAPES)?;
-    let shape = shape(b, header, kind)?;
     let material = resolve(materials, &b.material, "material")?;
-    let model = body_model(b, &material_list[material])?;
+    let (shape, model) = if kind == ShapeKind::Mesh {
+        reject_foreign_keys(b, kind)?;
+        let shape = super::mesh::shape(b, &header, dir)?;
+        (shape, super::mesh::model(b, &material_list[material])?)
+    } else {
+        (shape(b, header, kind)?, body_model(b, &material_list[material])?)
+    };
     let initial_stress = match &b.initial_stress {
         Some(s) if model == BodyModel::Rigid => {
             return fail(s.span(), "initial_stress is only for deformable bodies");
@@ -380,14 +393,22 @@ fn shape(b: &raw::Body, header: Range<usize>, kind: ShapeKind) -> Check<Shape> {
         }),
         ShapeKind::Ring => ring(b, &header),
         ShapeKind::Polygon => polygon(need(b, &header, &b.vertices, "vertices")?),
+        ShapeKind::Mesh => unreachable!("mesh shapes are read by scene::mesh"),
     }
 }
 
 fn reject_mesh_keys(b: &raw::Body) -> Check<()> {
-    for (key, value) in [("file", &b.file), ("physical", &b.physical)] {
-        if let Some(v) = value {
-            let message = format!("`{key}` is a key of mesh bodies, which are not supported yet");
-            return fail(v.span(), message);
+    let given = [
+        ("file", b.file.as_ref().map(Spanned::span)),
+        ("physical", b.physical.as_ref().map(Spanned::span)),
+        ("fixed_nodes", b.fixed_nodes.as_ref().map(Spanned::span)),
+        ("scale", b.scale.as_ref().map(Spanned::span)),
+        ("offset", b.offset.as_ref().map(Spanned::span)),
+    ];
+    for (key, span) in given {
+        if let Some(span) = span {
+            let shape = b.shape.get_ref();
+            return fail(span, format!("`{key}` is a key of mesh bodies, not used by a {shape} body"));
         }
     }
     Ok(())
@@ -399,6 +420,7 @@ fn reject_foreign_keys(b: &raw::Body, kind: ShapeKind) -> Check<()> {
         ShapeKind::Disk => &["center", "radius"],
         ShapeKind::Ring => &["center", "radius", "inner_radius"],
         ShapeKind::Polygon => &["vertices"],
+        ShapeKind::Mesh => &[],
     };
     let given = [
         ("center", b.center.as_ref().map(Spanned::span)),
@@ -418,7 +440,7 @@ fn reject_foreign_keys(b: &raw::Body, kind: ShapeKind) -> Check<()> {
 }
 
 /// A key the shape requires; missing, the error points at the body's `[[body]]` header.
-fn need<'a, T>(
+pub(super) fn need<'a, T>(
     b: &raw::Body,
     header: &Range<usize>,
     value: &'a Option<Spanned<T>>,

@@ -62,6 +62,13 @@ fn connector(
         let body = &bodies[held_by[0]].name;
         return fail(place, format!("both anchors of connector \"{name}\" are on the same body \"{body}\""));
     }
+    if let Some(&m) = held_by.iter().find(|&&b| matches!(bodies[b].shape, crate::model::Shape::Mesh(_))) {
+        let body = &bodies[m].name;
+        return fail(
+            place,
+            format!("connector \"{name}\" is anchored on mesh body \"{body}\": not supported yet"),
+        );
+    }
     if bodies[held_by[0]].fixed && bodies[held_by[1]].fixed {
         let (a, b) = (&bodies[held_by[0]].name, &bodies[held_by[1]].name);
         return fail(place, format!("connector \"{name}\" joins two fixed bodies, \"{a}\" and \"{b}\""));

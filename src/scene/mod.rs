@@ -11,6 +11,7 @@
 
 mod check;
 mod connectors;
+mod mesh;
 pub mod overrides;
 mod raw;
 
@@ -38,7 +39,8 @@ pub fn parse(source: &str, file_name: &str) -> Result<Model, SceneError> {
     let toml_fail = |e: toml::de::Error| fail(Problem::from_toml(&e, source));
     let root = DeTable::parse(source).map_err(toml_fail)?;
     let raw = raw::Scene::deserialize(Deserializer::from(root)).map_err(toml_fail)?;
-    check::model(&raw).map_err(fail)
+    let dir = Path::new(file_name).parent().unwrap_or(Path::new(""));
+    check::model(&raw, dir).map_err(fail)
 }
 
 /// What is wrong, and where: a byte span of the source.

@@ -6,7 +6,6 @@
 //! for a fixed-size one and silently drops the rest; `check` tests the length.
 
 use serde::Deserialize;
-use serde::de::IgnoredAny;
 use toml::Spanned;
 
 /// The whole document.
@@ -108,10 +107,16 @@ pub(super) struct Body {
     pub radius: Option<Spanned<f64>>,
     pub inner_radius: Option<Spanned<f64>>,
     pub vertices: Option<Spanned<Vec<Vec<f64>>>>,
-    /// Mesh key, not supported yet: read only to be rejected.
-    pub file: Option<Spanned<IgnoredAny>>,
-    /// Mesh key, not supported yet: read only to be rejected.
-    pub physical: Option<Spanned<IgnoredAny>>,
+    /// Mesh: the gmsh file, relative to the scene file.
+    pub file: Option<Spanned<String>>,
+    /// Mesh: physical surface group to take.
+    pub physical: Option<Spanned<String>>,
+    /// Mesh: physical curve or point groups whose nodes have no DOFs.
+    pub fixed_nodes: Option<Spanned<Vec<Spanned<String>>>>,
+    /// Mesh: factor on the file's coordinates.
+    pub scale: Option<Spanned<f64>>,
+    /// Mesh: translation after scaling.
+    pub offset: Option<Spanned<Vec<f64>>>,
     pub model: Option<Spanned<String>>,
     pub material: Spanned<String>,
     #[serde(default)]

@@ -22,10 +22,12 @@ impl World {
     /// layout.
     pub(super) fn detect(&self, df: &[f64]) -> Vec<Contact> {
         let u_max = (0..self.bodies.len())
-            .map(|b| self.bodies[b].max_displacement(&self.dofs.gather(df, b)))
+            .map(|b| self.bodies[b].max_motion(&df[self.dofs.range(b)]))
             .fold(0.0, f64::max);
         let threshold = self.threshold.max(2.5 * u_max);
-        let geoms = detect(&self.shapes(), &self.fixed(), threshold);
+        let mut geoms = detect(&self.shapes(), &self.fixed(), threshold);
+        let meshes: Vec<bool> = self.bodies.iter().map(|b| b.mesh.is_some()).collect();
+        crate::contact::label_mesh_kinds(&mut geoms, &meshes);
         let partners = joint_partners(&geoms);
         let mut row = 0;
         geoms
@@ -45,7 +47,7 @@ impl World {
     /// length, rolling rows for particle contacts only (math note §4.4).
     fn law(&self, g: &ContactGeom, partner: Option<usize>, memory: Option<Memory>, row: usize) -> Law {
         let i = self.interface(g.a, g.b);
-        let particle = g.kind != ContactKind::BB;
+        let particle = matches!(g.kind, ContactKind::PP | ContactKind::PB | ContactKind::PL);
         let intact = !self.broken.contains(&g.key);
         Law {
             row,

@@ -23,16 +23,28 @@ impl World {
                 fb
             })
             .collect();
+        let mut df = vec![0.0; self.dofs.total()];
         for (load, p) in self.model.loads.iter().zip(&self.load_points) {
             let body: &Body = &self.bodies[load.body];
             let force = load_force(load, t1);
+            if let Some(fe) = body.mesh.as_ref().filter(|_| !body.fixed) {
+                fe.add_point_load(&mut df[self.dofs.range(load.body)], p.current, force);
+                continue;
+            }
             f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
                 + body.shape_row(p.current, Vec2::y()) * force.y;
         }
         self.add_connector_loads(&mut f);
-        let mut df = vec![0.0; self.dofs.total()];
         for (b, fb) in f.iter().enumerate() {
-            self.dofs.scatter_add(&mut df, b, fb);
+            match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
+                // a mesh body's load (math note §9.1)
+                Some(fe) => {
+                    let v0_scale = if self.step_index == 0 { 1.0 } else { self.model.physics.velocity_carry };
+                    let fm = fe.step_load(g, v0_scale, dt);
+                    df[self.dofs.range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
+                }
+                None => self.dofs.scatter_add(&mut df, b, fb),
+            }
         }
         self.flex.solve_in_place(&self.dofs, &mut df);
         df

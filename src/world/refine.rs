@@ -34,7 +34,10 @@ impl World {
         let watched: Vec<usize> = (0..contacts.len())
             .filter(|&k| {
                 let r = contacts[k].law.row;
-                !state.impacting_rows[r] && state.gaps[r] < near
+                // contacts on a mesh keep their step-start rows (no mid-step refinement yet)
+                let on_mesh =
+                    [contacts[k].geom.a, contacts[k].geom.b].iter().any(|&b| self.bodies[b].mesh.is_some());
+                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh
             })
             .collect();
         let full = |b: usize| self.dofs.gather(dbar, b);

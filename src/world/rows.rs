@@ -82,6 +82,19 @@ impl World {
             let b = &self.bodies[body];
             let Some(cluster) = self.dofs.cluster_of(body) else { continue };
             let range = self.dofs.range(body);
+            if let Some(fe) = &b.mesh {
+                // math note §9.2: the column has entries at the two nodes of the edge holding x,
+                // c = s [(1 - t) e_i + t e_j] (x) [n, tau]; the full nodal column in solve 2 as well
+                for (node, w) in fe.edge_weights(x) {
+                    let Some(d) = fe.pattern.dof(node).filter(|_| w != 0.0) else { continue };
+                    for (row, dir) in [(r, n), (r + 1, tau)] {
+                        let mut vals = Dofs::zeros();
+                        (vals[0], vals[1]) = (sign * w * dir.x, sign * w * dir.y);
+                        jac.push(row, cluster, range.start + d, 2, vals);
+                    }
+                }
+                continue;
+            }
             let mut push = |row: usize, vals: Dofs| jac.push(row, cluster, range.start, range.len(), vals);
             push(r, keep(b.shape_row(x, n) * sign));
             push(r + 1, keep(b.shape_row(x, tau) * sign));

@@ -36,15 +36,38 @@ impl World {
     /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
     /// the next step starts from k v1 (see [`Self::v0`]).
     pub(super) fn update(&mut self, m: &Motion, dt: f64) {
-        let dbar: Vec<_> = (0..self.bodies.len()).map(|b| self.dofs.gather(&m.dbar, b)).collect();
-        for p in self.load_points.iter_mut().chain(self.monitors.iter_mut()) {
-            p.current = self.bodies[p.body].moved_point(p.current, &dbar[p.body]);
+        let is_mesh = |b: &crate::body::Body| b.mesh.is_some();
+        let dbar: Vec<_> = (0..self.bodies.len())
+            .map(|b| if is_mesh(&self.bodies[b]) { Default::default() } else { self.dofs.gather(&m.dbar, b) })
+            .collect();
+        // points on a mesh keep their triangle and area coordinates (math note §9.2)
+        let held: Vec<_> = self
+            .load_points
+            .iter()
+            .chain(self.monitors.iter())
+            .map(|p| self.bodies[p.body].mesh.as_ref().and_then(|fe| fe.locate(p.current)))
+            .collect();
+        for (p, h) in self.load_points.iter_mut().chain(self.monitors.iter_mut()).zip(&held) {
+            if h.is_none() {
+                p.current = self.bodies[p.body].moved_point(p.current, &dbar[p.body]);
+            }
         }
         let v0: Vec<_> = self.bodies.iter().map(|b| self.v0(b)).collect();
+        let v0_scale = if self.step_index == 0 { 1.0 } else { self.model.physics.velocity_carry };
         for (b, body) in self.bodies.iter_mut().enumerate() {
+            if is_mesh(body) {
+                let r = self.dofs.range(b);
+                body.apply_mesh_step(&m.dbar[r.clone()], &m.dvel[r], v0_scale, dt);
+                continue;
+            }
             body.apply_increment(&dbar[b]);
             if !body.fixed {
                 body.velocity = self.dofs.gather(&m.dvel, b) * (2.0 / dt) - v0[b];
+            }
+        }
+        for (p, h) in self.load_points.iter_mut().chain(self.monitors.iter_mut()).zip(held) {
+            if let (Some((e, l)), Some(fe)) = (h, &self.bodies[p.body].mesh) {
+                p.current = fe.triangles[e].iter().zip(l).map(|(&n, w)| fe.nodes[n] * w).sum();
             }
         }
     }

@@ -1,0 +1,52 @@
+//! The mesh examples run, and the sliding block follows its closed form.
+
+mod common;
+
+use pbdda::world::World;
+
+/// `examples/mesh_block_on_slope.toml`: a meshed block on a frictional floor (μ = 0.3) under
+/// gravity tilted by 30°; Coulomb sliding, a = g (sin α − μ cos α) = 2.4019 m/s², so after
+/// t = 0.5 s the centroid has moved a t²/2 = 0.30024 m down the slope and moves at a t. The
+/// block is elastic, so its centroid also carries a tiny elastic settling (σ/E ~ 2e-5 of its
+/// height) and vibration: tolerance 1e-4 relative on the travel and the speed.
+#[test]
+fn meshed_block_slides_down_the_slope() {
+    let model = common::example("mesh_block_on_slope.toml");
+    let steps = model.time.steps;
+    let mut world = World::new(model);
+    let x0 = world.bodies[1].centroid.x;
+    for _ in 0..steps {
+        world.step().unwrap_or_else(|e| panic!("{e}"));
+    }
+    let (alpha, mu, g) = (30f64.to_radians(), 0.3, 10.0);
+    let a = g * (alpha.sin() - mu * alpha.cos());
+    let t = world.time;
+    let travel = world.bodies[1].centroid.x - x0;
+    assert!(
+        (travel - a * t * t / 2.0).abs() < 1e-4 * a * t * t / 2.0,
+        "travel {travel} vs {}",
+        a * t * t / 2.0
+    );
+    let v = world.bodies[1].velocity[0];
+    assert!((v - a * t).abs() < 1e-4 * a * t, "speed {v} vs {}", a * t);
+}
+
+/// The other mesh examples load and step (cantilever: the tip monitor moves down; Hertz: the
+/// disk is carried by particle-loop contacts).
+#[test]
+fn mesh_examples_step() {
+    let mut world = World::new(common::example("mesh_cantilever.toml"));
+    for _ in 0..12 {
+        world.step().unwrap_or_else(|e| panic!("{e}"));
+    }
+    let tip = world.monitors[0].current - world.monitors[0].initial;
+    // beam theory 4.03e-4 m; the coarsest mesh locks (scikit-fem: 2.78e-4 for the traction load)
+    assert!(tip.y < -2.0e-4 && tip.y > -4.1e-4, "tip {tip:?}");
+    let mut world = World::new(common::example("mesh_hertz.toml"));
+    let mut rec = None;
+    for _ in 0..3 {
+        rec = Some(world.step().unwrap_or_else(|e| panic!("{e}")));
+    }
+    let rec = rec.expect("steps");
+    assert!(rec.contacts.iter().any(|c| c.kind.as_str() == "PL" && c.normal_force > 0.0));
+}
