@@ -132,29 +132,6 @@ fn missing_results_name_the_file() {
     assert!(err.to_string().contains("geometry.csv"), "{err}");
 }
 
-/// Writes the README pictures into docs/img (run by hand: `cargo test --release --test plots
-/// -- --ignored`): the §7.1-style force chains of a settled hexagonal pile and the §7.3 ring's
-/// contact forces.
-#[test]
-#[ignore]
-fn readme_pictures() {
-    let pile = pbdda::generate::DiskPile::benchmark(24, 14).model();
-    let (dir, _, _) = run("readme_pile", pile, 5);
-    let img = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/img");
-    std::fs::create_dir_all(&img).unwrap();
-    render_step(&dir, None, &img.join("pile_force_chains.png"), (1000, 640)).expect("render");
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/7_5_disk_in_ring.toml");
-    let model = pbdda::scene::load(&path).expect("example");
-    let steps = model.time.steps;
-    let (dir, _, _) = run("readme_ring", model, steps);
-    let opts = PlotOptions { bodies: vec![], size: (900, 650), png: true, svg: false };
-    let out = dir.join("plots");
-    let written = plot_results(&dir, &out, &opts).expect("plots");
-    let chosen =
-        written.iter().find(|p| p.to_string_lossy().contains("contact_forces")).expect("a contact figure");
-    std::fs::copy(chosen, img.join("contact_forces.png")).expect("copy");
-}
-
 /// A results folder still being written: the last step of bodies.csv has only some of its
 /// rows, the last line not even finished. The default picture is then the last complete step
 /// (the §7.1 heap has 4 bodies; 3 steps written, so step 2), and rendering works.
