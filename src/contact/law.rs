@@ -4,7 +4,7 @@
 //! ±δ p_n (§4.4). Shares of a joint's cohesion and tensile strength between its two adjoint
 //! contacts follow the mobilization-equalizing rules of §4.5–4.6.
 
-use crate::vi::BoundRule;
+use crate::vi::{BlockLaw, BoundRule};
 
 /// One contact's law and row layout, as the bound rule sees it.
 #[derive(Debug, Clone, Copy, Default)]
@@ -65,13 +65,18 @@ impl ContactBounds<'_> {
         if pn <= 0.0 && !law.bonded {
             return 0.0;
         }
-        let cohesion = match (law.partner, self.share_cohesion) {
+        self.cohesion(k, z) + law.friction * pn.max(0.0)
+    }
+
+    /// Cohesion c_k of contact k for the iterate z: its share of the joint's (§4.6).
+    fn cohesion(&self, k: usize, z: &[f64]) -> f64 {
+        let law = &self.laws[k];
+        match (law.partner, self.share_cohesion) {
             (Some(l), true) => {
                 cohesion_share(law.cohesion, law.friction, self.forces(k, z), self.forces(l, z))
             }
             _ => law.cohesion,
-        };
-        cohesion + law.friction * pn.max(0.0)
+        }
     }
 }
 
@@ -90,6 +95,19 @@ impl BoundRule for ContactBounds<'_> {
             lo[2] = -m;
             hi[2] = m;
         }
+    }
+
+    /// The same bounds as functions of p_n (math note §4.7), the shares frozen at z:
+    /// τ = c + μ p_n for p_n > 0 and c (bonded) or 0 for p_n <= 0; rolling δ max(p_n, 0).
+    fn block_law(&self, k: usize, z: &[f64]) -> Option<BlockLaw> {
+        let law = &self.laws[k];
+        let c = self.cohesion(k, z);
+        Some(BlockLaw {
+            tension: self.tensile_bound(k, z),
+            a: [c, 0.0],
+            b: [law.friction, law.rolling.max(0.0)],
+            a_open: [if law.bonded { c } else { 0.0 }, 0.0],
+        })
     }
 }
 

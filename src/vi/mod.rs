@@ -90,6 +90,9 @@
 //! matrix its compressed storage reads the same as CSR). Symmetry and semidefiniteness are
 //! not checked (PC only needs monotonicity of G).
 
+mod local;
+mod method;
+mod nsgs;
 mod operator;
 mod outer;
 mod par;
@@ -98,6 +101,8 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 
+pub use method::Method;
+pub use nsgs::STALL_SWEEPS;
 pub use operator::Operator;
 
 /// G(z) = q + W z, with the rows grouped in per-contact blocks: block k is rows
@@ -133,6 +138,26 @@ pub trait BoundRule {
             self.block_bounds(k, z, &mut lo[b[0]..b[1]], &mut hi[b[0]..b[1]]);
         }
     }
+
+    /// The bounds of block k in closed form as functions of its own first row, with every
+    /// other dependence frozen at z ([`BlockLaw`]); `None` (the default) when the rule has no
+    /// such form, and the NSGS local solver then uses [`Self::block_bounds`] at z as a fixed
+    /// box. Must agree with `block_bounds`: at any z, the box of [`BlockLaw`] evaluated at
+    /// p = z[first row of k] is the box `block_bounds(k, z)` returns.
+    fn block_law(&self, _k: usize, _z: &[f64]) -> Option<BlockLaw> {
+        None
+    }
+}
+
+/// A contact block's bounds as functions of its normal value p (row 0), for the exact local
+/// solves of NSGS (math note §4.7): `p >= −tension`; row 1 + i (tangential, rolling) has
+/// `|z| <= a[i] + b[i] p` when p > 0 and `|z| <= a_open[i]` when p <= 0.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BlockLaw {
+    pub tension: f64,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    pub a_open: [f64; 2],
 }
 
 /// Bounds that do not depend on z: a plain VI. `lo`, `hi` cover all rows.
@@ -232,6 +257,8 @@ pub struct Stats {
     pub products: usize,
     /// Rejected trial steps (beta shrinks).
     pub shrinks: usize,
+    /// NSGS runs handed over to PC by the stall guard (0 or 1).
+    pub fallbacks: usize,
 }
 
 /// The solver with its workspace, reused across calls and steps: allocation only when a
@@ -252,7 +279,10 @@ pub struct Solver {
     /// iteration and failed to settle less often, and on a frictional square packing it
     /// converged where the exact iteration ran out of iterations.
     pub inexact: f64,
+    /// Method ([`Method::Auto`] by default).
+    pub method: Method,
     stats: Stats,
+    nsgs: nsgs::Work,
     scaling: scaling::Scaling,
     vectors: pc::Vectors,
 }
@@ -269,7 +299,9 @@ impl Solver {
             correction: Correction::default(),
             parallel_min_rows: 20_000,
             inexact: 0.1,
+            method: Method::default(),
             stats: Stats::default(),
+            nsgs: nsgs::Work::default(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
         }
@@ -284,6 +316,12 @@ impl Solver {
     /// Sets [`Self::parallel_min_rows`].
     pub fn with_parallel_min_rows(mut self, rows: usize) -> Solver {
         self.parallel_min_rows = rows;
+        self
+    }
+
+    /// Sets [`Self::method`].
+    pub fn with_method(mut self, method: Method) -> Solver {
+        self.method = method;
         self
     }
 
@@ -305,7 +343,6 @@ impl Solver {
         let n = p.q.len();
         self.stats = Stats::default();
         let csr = p.w.as_csr();
-        let explicit = csr.is_some();
         let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
         if !p.is_consistent(z) || !csr_ok {
             return self.invalid_input();
@@ -313,6 +350,35 @@ impl Solver {
         if n == 0 {
             return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         }
+        let nsgs_ok = csr.as_ref().is_some_and(|w| nsgs::applicable(w, p.blocks));
+        if self.method.resolve() != Method::Nsgs || !nsgs_ok {
+            return self.solve_pc(p, rule, z, opts);
+        }
+        let Some(w) = csr else { return self.solve_pc(p, rule, z, opts) };
+        let mut stats = Stats::default();
+        match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
+            nsgs::End::Converged { sweeps, residual } => {
+                self.stats = stats;
+                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
+            }
+            nsgs::End::Fallback { sweeps } => {
+                // Stall guard (math note §4.7): PC from the NSGS iterate, with what is left
+                // of the iteration budget.
+                let left = Options { max_iterations: opts.max_iterations.saturating_sub(sweeps), ..*opts };
+                let mut r = self.solve_pc(p, rule, z, &left);
+                r.inner_iterations += sweeps;
+                self.stats.products += stats.products;
+                self.stats.fallbacks = 1;
+                r
+            }
+        }
+    }
+
+    /// The PC path (math note §4.2–4.3).
+    fn solve_pc(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+        let n = p.q.len();
+        let csr = p.w.as_csr();
+        let explicit = csr.is_some();
         let max_diag = match csr {
             Some(w) => match self.scaling.setup_csr(w, opts.jacobi) {
                 Some(d) => d,
