@@ -97,13 +97,23 @@ impl BoundRule for ContactBounds<'_> {
         }
     }
 
-    /// The same bounds as functions of p_n (math note §4.7), the shares frozen at z:
+    /// The bounds as functions of p_n (math note §4.7), the partner's forces frozen at z:
     /// τ = c + μ p_n for p_n > 0 and c (bonded) or 0 for p_n <= 0; rolling δ max(p_n, 0).
     fn block_law(&self, k: usize, z: &[f64]) -> Option<BlockLaw> {
         let law = &self.laws[k];
         let c = self.cohesion(k, z);
+        // Tension: the joint's capacity less the partner's current tension, t − max(−p_l, 0),
+        // rather than the proportional share (§4.5). Both describe total tension <= t, but the
+        // share rule also admits "winner takes all" fixed points (p_l = 0 gives contact l no
+        // tensile bound, so it may open) that a Gauss-Seidel sweep runs into; every fixed point
+        // of this form is one of the share rule (math note §4.7).
+        let tension = match (law.bonded, law.partner) {
+            (false, _) => 0.0,
+            (true, None) => law.tensile,
+            (true, Some(l)) => (law.tensile - (-self.forces(l, z)[0]).max(0.0)).clamp(0.0, law.tensile),
+        };
         Some(BlockLaw {
-            tension: self.tensile_bound(k, z),
+            tension,
             a: [c, 0.0],
             b: [law.friction, law.rolling.max(0.0)],
             a_open: [if law.bonded { c } else { 0.0 }, 0.0],

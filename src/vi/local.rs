@@ -238,7 +238,8 @@ fn signs(s: usize, nt: usize) -> [f64; 2] {
 /// Solves the k×k system by Gaussian elimination with partial pivoting; `None` when it is
 /// singular to round-off.
 fn solve_small(k: usize, mut a: [[f64; MAX]; MAX], mut b: [f64; MAX]) -> Option<[f64; MAX]> {
-    let scale = (0..k).flat_map(|i| (0..k).map(move |j| (i, j))).fold(0.0f64, |s, (i, j)| s.max(a[i][j].abs()));
+    let scale =
+        (0..k).flat_map(|i| (0..k).map(move |j| (i, j))).fold(0.0f64, |s, (i, j)| s.max(a[i][j].abs()));
     for c in 0..k {
         let p = (c..k).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
         if !(a[p][c].abs() > 1e-14 * scale) {

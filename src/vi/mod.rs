@@ -142,8 +142,10 @@ pub trait BoundRule {
     /// The bounds of block k in closed form as functions of its own first row, with every
     /// other dependence frozen at z ([`BlockLaw`]); `None` (the default) when the rule has no
     /// such form, and the NSGS local solver then uses [`Self::block_bounds`] at z as a fixed
-    /// box. Must agree with `block_bounds`: at any z, the box of [`BlockLaw`] evaluated at
-    /// p = z[first row of k] is the box `block_bounds(k, z)` returns.
+    /// box. It may be a different description of the same constraint, but every z that solves
+    /// the local problems of this form for all blocks must solve the VI of the boxes
+    /// `block_bounds` gives at z: the residual, and so convergence, is always judged with
+    /// `block_bounds`.
     fn block_law(&self, _k: usize, _z: &[f64]) -> Option<BlockLaw> {
         None
     }
@@ -279,7 +281,8 @@ pub struct Solver {
     /// iteration and failed to settle less often, and on a frictional square packing it
     /// converged where the exact iteration ran out of iterations.
     pub inexact: f64,
-    /// Method ([`Method::Auto`] by default).
+    /// Method. [`Solver::new`] gives [`Method::Pc`], the reference (the world sets the
+    /// scene's `[solver] method`, default [`Method::Auto`], before every solve).
     pub method: Method,
     stats: Stats,
     nsgs: nsgs::Work,
@@ -299,7 +302,7 @@ impl Solver {
             correction: Correction::default(),
             parallel_min_rows: 20_000,
             inexact: 0.1,
-            method: Method::default(),
+            method: Method::Pc,
             stats: Stats::default(),
             nsgs: nsgs::Work::default(),
             scaling: scaling::Scaling::default(),
@@ -362,16 +365,41 @@ impl Solver {
                 Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
             }
             nsgs::End::Fallback { sweeps } => {
-                // Stall guard (math note §4.7): PC from the NSGS iterate, with what is left
-                // of the iteration budget.
-                let left = Options { max_iterations: opts.max_iterations.saturating_sub(sweeps), ..*opts };
-                let mut r = self.solve_pc(p, rule, z, &left);
+                let mut r = self.fallback(p, rule, z, opts, sweeps);
                 r.inner_iterations += sweeps;
                 self.stats.products += stats.products;
                 self.stats.fallbacks = 1;
                 r
             }
         }
+    }
+
+    /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
+    /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
+    /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
+    /// judged against the warm start's scale, not against the grown NSGS iterate).
+    fn fallback(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        sweeps: usize,
+    ) -> Report {
+        let left = opts.max_iterations.saturating_sub(sweeps);
+        let first = Options { max_iterations: left / 2, ..*opts };
+        let r = self.solve_pc(p, rule, z, &first);
+        if r.converged {
+            return r;
+        }
+        let products = self.stats.products;
+        z.copy_from_slice(self.nsgs.warm_start());
+        let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
+        let mut r2 = self.solve_pc(p, rule, z, &rest);
+        r2.inner_iterations += r.inner_iterations;
+        r2.outer_iterations += r.outer_iterations;
+        self.stats.products += products;
+        r2
     }
 
     /// The PC path (math note §4.2–4.3).

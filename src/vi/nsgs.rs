@@ -41,6 +41,11 @@ pub(super) fn applicable(w: &CsMatView<'_, f64>, blocks: &[usize]) -> bool {
 }
 
 impl Work {
+    /// The warm start of the last run.
+    pub fn warm_start(&self) -> &[f64] {
+        &self.z0
+    }
+
     /// Runs NSGS from z (overwritten). `stats.products` counts sweeps and residual checks
     /// (each one pass over W).
     pub fn run(
@@ -54,24 +59,29 @@ impl Work {
         stats: &mut Stats,
     ) -> End {
         let n = q.len();
+        self.z0.clear();
+        self.z0.extend_from_slice(z);
         if !self.setup(w, blocks, n) {
             return End::Fallback { sweeps: 0 };
         }
-        self.z0.clear();
-        self.z0.extend_from_slice(z);
         let (indptr, cols, vals) = (w.indptr(), w.indices(), w.data());
         let indptr = indptr.as_slice().unwrap_or(&[]);
         if indptr.len() != n + 1 {
             return End::Fallback { sweeps: 0 };
         }
         let cap = opts.max_iterations;
+        // Growth test as in PC (module docs of `vi`): iterates beyond growth * S run along a
+        // ray of an unbounded problem; PC from the warm start then reports it.
+        let tol = opts.tolerance;
+        let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
+        let limit = growth * self.start_scale(indptr, cols, vals, q, z);
         let (mut ref_res, mut ref_at) = (f64::INFINITY, 0usize);
         let mut sweeps = 0;
         loop {
             if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
                 stats.products += 1;
-                let res = self.residual(indptr, cols, vals, q, blocks, rule, z);
-                if !res.is_finite() {
+                let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z);
+                if !res.is_finite() || zn > limit {
                     z.copy_from_slice(&self.z0);
                     return End::Fallback { sweeps };
                 }
@@ -136,6 +146,8 @@ impl Work {
         rule: &dyn BoundRule,
         z: &mut [f64],
     ) {
+        // Rules without a closed form: the box of the iterate at the start of the sweep.
+        let mut have_box = false;
         for (k, b) in blocks.windows(2).enumerate() {
             let (r0, m) = (b[0], b[1] - b[0]);
             let mut l = Local { m, a: self.diag[k], r: [0.0; MAX] };
@@ -155,9 +167,11 @@ impl Work {
             let _exact = match rule.block_law(k, z).filter(|_| m >= 2) {
                 Some(law) => l.solve_law(&law, &mut zk),
                 None => {
-                    let (lo, hi) = (&mut self.lo[r0..r0 + m], &mut self.hi[r0..r0 + m]);
-                    rule.block_bounds(k, z, lo, hi);
-                    l.solve_box(lo, hi, &mut zk)
+                    if !have_box {
+                        rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
+                        have_box = true;
+                    }
+                    l.solve_box(&self.lo[r0..r0 + m], &self.hi[r0..r0 + m], &mut zk)
                 }
             };
             z[r0..r0 + m].copy_from_slice(&zk[..m]);
@@ -177,7 +191,7 @@ impl Work {
         blocks: &[usize],
         rule: &dyn BoundRule,
         z: &[f64],
-    ) -> f64 {
+    ) -> (f64, f64) {
         rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
         let (mut r, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0);
         for b in blocks.windows(2) {
@@ -191,7 +205,7 @@ impl Work {
                 }
                 let (l, h) = (self.lo[i], self.hi[i]);
                 if !(l <= h) {
-                    return f64::INFINITY;
+                    return (f64::INFINITY, 0.0);
                 }
                 let zi = z[i];
                 r = r.max((zi - (zi - g / d).max(l).min(h)).abs());
@@ -199,6 +213,16 @@ impl Work {
                 bad += zi * 0.0 + g * 0.0;
             }
         }
-        if bad.is_finite() { r / zn.max(1.0) } else { f64::INFINITY }
+        if bad.is_finite() { (r / zn.max(1.0), zn) } else { (f64::INFINITY, zn) }
+    }
+
+    /// S = max(1, ||D⁻¹q||_inf, ||z_start||_inf) of the growth test.
+    fn start_scale(&self, indptr: &[usize], cols: &[usize], vals: &[f64], q: &[f64], z: &[f64]) -> f64 {
+        let mut s = 1.0f64;
+        for i in 0..q.len() {
+            let d: f64 = (indptr[i]..indptr[i + 1]).filter(|&p| cols[p] == i).map(|p| vals[p]).sum();
+            s = s.max((q[i] / d).abs()).max(z[i].abs());
+        }
+        s
     }
 }
