@@ -173,4 +173,40 @@ mod tests {
         assert_eq!(tensile_share(2000.0, -1000.0, 10.0), 2000.0);
         assert_eq!(tensile_share(2000.0, 5.0, 10.0), 1000.0);
     }
+
+    /// Without a joint partner the closed form of NSGS (math note §4.7) is the same box as
+    /// `block_bounds` for any p_n: τ = c + μ p_n (p_n > 0), c bonded / 0 open (p_n <= 0, §10.4),
+    /// rolling δ max(p_n, 0), tension t bonded / 0. Checked on both sides of p_n = 0, exactly.
+    #[test]
+    fn block_law_matches_block_bounds_without_partner() {
+        for bonded in [false, true] {
+            let law = Law {
+                row: 0,
+                friction: 0.4,
+                cohesion: 3.0,
+                tensile: 5.0,
+                rolling: 0.1,
+                bonded,
+                partner: None,
+            };
+            let laws = [law];
+            let rule = ContactBounds { laws: &laws, share_cohesion: true };
+            for pn in [-2.0, 0.0, 7.0] {
+                let z = [pn, 0.5, 0.1];
+                let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+                rule.block_bounds(0, &z, &mut lo, &mut hi);
+                let l = rule.block_law(0, &z).expect("contact laws have a closed form");
+                assert_eq!(lo[0], -l.tension);
+                for i in 0..2 {
+                    let tau = if pn > 0.0 { l.a[i] + l.b[i] * pn } else { l.a_open[i] };
+                    assert_eq!(
+                        (lo[i + 1], hi[i + 1]),
+                        (-tau, tau),
+                        "bonded {bonded}, p_n {pn}, row {}",
+                        i + 1
+                    );
+                }
+            }
+        }
+    }
 }

@@ -101,7 +101,7 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 
-pub use method::Method;
+pub use method::{AUTO_NSGS_ROWS, Method};
 pub use nsgs::STALL_SWEEPS;
 pub use operator::Operator;
 
@@ -354,7 +354,7 @@ impl Solver {
             return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         }
         let nsgs_ok = csr.as_ref().is_some_and(|w| nsgs::applicable(w, p.blocks));
-        if self.method.resolve() != Method::Nsgs || !nsgs_ok {
+        if self.method.resolve(n) != Method::Nsgs || !nsgs_ok {
             return self.solve_pc(p, rule, z, opts);
         }
         let Some(w) = csr else { return self.solve_pc(p, rule, z, opts) };
