@@ -97,6 +97,7 @@ fn rapier_run(
     let (mut pipeline, mut islands, mut broad, mut narrow) =
         (PhysicsPipeline::new(), IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
     let (mut ij, mut mj, mut ccd) = (ImpulseJointSet::new(), MultibodyJointSet::new(), CCDSolver::new());
+    let mut soft = SoftBodySet::new();
     let gravity = Vector::new(0.0, -9.81);
     let (mut pairs, mut secs) = (Pairs::new(), 0.0);
     for s in 0..steps {
@@ -111,6 +112,7 @@ fn rapier_run(
             &mut colliders,
             &mut ij,
             &mut mj,
+            &mut soft,
             &mut ccd,
             &(),
             &(),
