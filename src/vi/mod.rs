@@ -48,6 +48,14 @@
 //!   (`vi_kkt`, `jacobi_needed_for_heavy_heavy_contact`) the unscaled solver does not
 //!   converge in 20 000 iterations while the scaled one needs a few hundred.
 //!
+//! # Methods
+//!
+//! [`Solver::method`] picks the algorithm ([`Method`]): the PC method below (the reference),
+//! or nonsmooth block Gauss-Seidel (`nsgs.rs`, `local.rs`; math note §4.7), which solves each
+//! block exactly in closed form ([`BoundRule::block_law`]) with the bounds taken at the
+//! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
+//! when it stalls. [`Method::Auto`] runs PC on small problems and NSGS on large ones.
+//!
 //! # Performance
 //!
 //! * An explicit W ([`Operator::as_csr`]) is copied once per call with the scaling folded
