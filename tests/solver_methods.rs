@@ -48,6 +48,7 @@ fn paper_examples_with_auto() {
 fn unknown_method_is_an_error() {
     let o = Override::parse("solver.method=cg").expect("a valid override");
     let e = pbdda::scene::load_with(std::path::Path::new("examples/7_1_disk_heap.toml"), &[o]);
-    let msg = format!("{:?}", e.err().expect("rejected"));
+    let Err(e) = e else { panic!("an unknown method was accepted") };
+    let msg = format!("{e:?}");
     assert!(msg.contains("method must be one of"), "{msg}");
 }

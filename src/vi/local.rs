@@ -5,6 +5,9 @@
 //! which rows are at a bound, the remaining equations w_R = 0 are a linear system of at most
 //! 3 unknowns, and the case is accepted when its sign conditions hold. No inner iteration.
 
+// Fixed-size 3×3 algebra indexes rows and columns together; NaN-safe `!(a > b)` tests.
+#![allow(clippy::needless_range_loop, clippy::neg_cmp_op_on_partial_ord)]
+
 use super::BlockLaw;
 
 /// Largest block handled here (normal, tangential, rolling).

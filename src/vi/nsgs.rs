@@ -5,6 +5,9 @@
 //! scaled natural residual of math note §4.3 is evaluated with the bounds of the current
 //! iterate: the same test and reported value as PC. A stall guard hands slow runs to PC.
 
+// NaN-safe `!(a <= b)` tests.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::local::{Local, MAX};
 use super::{BoundRule, Options, Stats, Status};
 use sprs::CsMatView;
@@ -46,6 +49,7 @@ impl Work {
         &self.z0
     }
 
+    #[allow(clippy::too_many_arguments)]
     /// Runs NSGS from z (overwritten). `stats.products` counts sweeps and residual checks
     /// (each one pass over W).
     pub fn run(
@@ -152,9 +156,7 @@ impl Work {
             let (r0, m) = (b[0], b[1] - b[0]);
             let mut l = Local { m, a: self.diag[k], r: [0.0; MAX] };
             let mut zk = [0.0; MAX];
-            for i in 0..m {
-                zk[i] = z[r0 + i];
-            }
+            zk[..m].copy_from_slice(&z[r0..r0 + m]);
             // r = q_k + (W z)_k − A z_k
             for i in 0..m {
                 let row = r0 + i;
