@@ -82,7 +82,7 @@ impl DiskPile {
             time: TimeSettings { step: self.dt, steps: 1 },
             physics: Physics { gravity: Vec2::new(0.0, -9.81), plane: Plane::Stress, velocity_carry: 1.0 },
             contact: ContactSettings { threshold: Some(0.1 * r) },
-            solver: SolverSettings { tolerance: 1e-6, max_iterations: 20_000 },
+            solver: SolverSettings { tolerance: 1e-6, max_iterations: 20_000, ..SolverSettings::default() },
             materials: vec![material],
             interfaces: vec![Interface {
                 friction: self.friction,

@@ -58,11 +58,13 @@ pub struct SolverSettings {
     pub tolerance: f64,
     /// Inner PC iterations per step, all outer loops together.
     pub max_iterations: usize,
+    /// VI method (`auto`, `pc`, `nsgs`; math note §4.7).
+    pub method: crate::vi::Method,
 }
 
 impl Default for SolverSettings {
     fn default() -> Self {
-        Self { tolerance: 1e-8, max_iterations: 200_000 }
+        Self { tolerance: 1e-8, max_iterations: 200_000, method: crate::vi::Method::Auto }
     }
 }
 

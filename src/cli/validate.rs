@@ -128,6 +128,19 @@ const SCENES_7_7: [(&str, &str); 3] = [
     ("7_7_trajectories.toml", include_str!("../../examples/7_7_trajectories.toml")),
 ];
 
+thread_local! {
+    /// Overrides [`rows_with`] adds to every scene.
+    static EXTRA: std::cell::RefCell<Vec<Override>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// [`rows`] with `extra` overrides on every scene (e.g. `solver.method=nsgs`).
+pub fn rows_with(extra: &[Override]) -> Result<Vec<Row>> {
+    EXTRA.with(|e| *e.borrow_mut() = extra.to_vec());
+    let rows = rows();
+    EXTRA.with(|e| e.borrow_mut().clear());
+    rows
+}
+
 /// A world of the built-in scene `name` with `sets` (KEY, VALUE) overrides.
 fn world(name: &str, sets: &[(&str, String)]) -> Result<World> {
     let (file, text) = SCENES
@@ -135,8 +148,9 @@ fn world(name: &str, sets: &[(&str, String)]) -> Result<World> {
         .chain(&SCENES_7_7)
         .find(|(f, _)| *f == name)
         .ok_or_else(|| miette::miette!("no built-in scene {name}"))?;
-    let overrides: Vec<Override> =
+    let mut overrides: Vec<Override> =
         sets.iter().map(|(k, v)| Override { key: (*k).to_owned(), value: v.clone() }).collect();
+    overrides.extend(EXTRA.with(|e| e.borrow().clone()));
     Ok(World::new(parse_with(text, &format!("examples/{file}"), &overrides)?))
 }
 

@@ -4,7 +4,7 @@
 //! ±δ p_n (§4.4). Shares of a joint's cohesion and tensile strength between its two adjoint
 //! contacts follow the mobilization-equalizing rules of §4.5–4.6.
 
-use crate::vi::BoundRule;
+use crate::vi::{BlockLaw, BoundRule};
 
 /// One contact's law and row layout, as the bound rule sees it.
 #[derive(Debug, Clone, Copy, Default)]
@@ -65,13 +65,18 @@ impl ContactBounds<'_> {
         if pn <= 0.0 && !law.bonded {
             return 0.0;
         }
-        let cohesion = match (law.partner, self.share_cohesion) {
+        self.cohesion(k, z) + law.friction * pn.max(0.0)
+    }
+
+    /// Cohesion c_k of contact k for the iterate z: its share of the joint's (§4.6).
+    fn cohesion(&self, k: usize, z: &[f64]) -> f64 {
+        let law = &self.laws[k];
+        match (law.partner, self.share_cohesion) {
             (Some(l), true) => {
                 cohesion_share(law.cohesion, law.friction, self.forces(k, z), self.forces(l, z))
             }
             _ => law.cohesion,
-        };
-        cohesion + law.friction * pn.max(0.0)
+        }
     }
 }
 
@@ -90,6 +95,29 @@ impl BoundRule for ContactBounds<'_> {
             lo[2] = -m;
             hi[2] = m;
         }
+    }
+
+    /// The bounds as functions of p_n (math note §4.7), the partner's forces frozen at z:
+    /// τ = c + μ p_n for p_n > 0 and c (bonded) or 0 for p_n <= 0; rolling δ max(p_n, 0).
+    fn block_law(&self, k: usize, z: &[f64]) -> Option<BlockLaw> {
+        let law = &self.laws[k];
+        let c = self.cohesion(k, z);
+        // Tension: the joint's capacity less the partner's current tension, t − max(−p_l, 0),
+        // rather than the proportional share (§4.5). Both describe total tension <= t, but the
+        // share rule also admits "winner takes all" fixed points (p_l = 0 gives contact l no
+        // tensile bound, so it may open) that a Gauss-Seidel sweep runs into; every fixed point
+        // of this form is one of the share rule (math note §4.7).
+        let tension = match (law.bonded, law.partner) {
+            (false, _) => 0.0,
+            (true, None) => law.tensile,
+            (true, Some(l)) => (law.tensile - (-self.forces(l, z)[0]).max(0.0)).clamp(0.0, law.tensile),
+        };
+        Some(BlockLaw {
+            tension,
+            a: [c, 0.0],
+            b: [law.friction, law.rolling.max(0.0)],
+            a_open: [if law.bonded { c } else { 0.0 }, 0.0],
+        })
     }
 }
 
@@ -144,5 +172,41 @@ mod tests {
         assert_eq!(tensile_share(2000.0, -750.0, -250.0), 1500.0);
         assert_eq!(tensile_share(2000.0, -1000.0, 10.0), 2000.0);
         assert_eq!(tensile_share(2000.0, 5.0, 10.0), 1000.0);
+    }
+
+    /// Without a joint partner the closed form of NSGS (math note §4.7) is the same box as
+    /// `block_bounds` for any p_n: τ = c + μ p_n (p_n > 0), c bonded / 0 open (p_n <= 0, §10.4),
+    /// rolling δ max(p_n, 0), tension t bonded / 0. Checked on both sides of p_n = 0, exactly.
+    #[test]
+    fn block_law_matches_block_bounds_without_partner() {
+        for bonded in [false, true] {
+            let law = Law {
+                row: 0,
+                friction: 0.4,
+                cohesion: 3.0,
+                tensile: 5.0,
+                rolling: 0.1,
+                bonded,
+                partner: None,
+            };
+            let laws = [law];
+            let rule = ContactBounds { laws: &laws, share_cohesion: true };
+            for pn in [-2.0, 0.0, 7.0] {
+                let z = [pn, 0.5, 0.1];
+                let (mut lo, mut hi) = ([0.0; 3], [0.0; 3]);
+                rule.block_bounds(0, &z, &mut lo, &mut hi);
+                let l = rule.block_law(0, &z).expect("contact laws have a closed form");
+                assert_eq!(lo[0], -l.tension);
+                for i in 0..2 {
+                    let tau = if pn > 0.0 { l.a[i] + l.b[i] * pn } else { l.a_open[i] };
+                    assert_eq!(
+                        (lo[i + 1], hi[i + 1]),
+                        (-tau, tau),
+                        "bonded {bonded}, p_n {pn}, row {}",
+                        i + 1
+                    );
+                }
+            }
+        }
     }
 }

@@ -219,6 +219,12 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
     Ok(SolverSettings {
         tolerance: or_default(&s.tolerance, "tolerance", positive, default.tolerance)?,
         max_iterations: or_default(&s.max_iterations, "max_iterations", count, default.max_iterations)?,
+        method: or_default(
+            &s.method,
+            "method",
+            |v, k| choice(v, k, &crate::vi::Method::ALL),
+            default.method,
+        )?,
     })
 }
 

@@ -73,6 +73,7 @@ pub(super) struct Contact {
 pub(super) struct Solver {
     pub tolerance: Option<Spanned<f64>>,
     pub max_iterations: Option<Spanned<i64>>,
+    pub method: Option<Spanned<String>>,
 }
 
 /// `[[material]]`

@@ -48,6 +48,14 @@
 //!   (`vi_kkt`, `jacobi_needed_for_heavy_heavy_contact`) the unscaled solver does not
 //!   converge in 20 000 iterations while the scaled one needs a few hundred.
 //!
+//! # Methods
+//!
+//! [`Solver::method`] picks the algorithm ([`Method`]): the PC method below (the reference),
+//! or nonsmooth block Gauss-Seidel (`nsgs.rs`, `local.rs`; math note §4.7), which solves each
+//! block exactly in closed form ([`BoundRule::block_law`]) with the bounds taken at the
+//! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
+//! when it stalls. [`Method::Auto`] runs PC on small problems and NSGS on large ones.
+//!
 //! # Performance
 //!
 //! * An explicit W ([`Operator::as_csr`]) is copied once per call with the scaling folded
@@ -90,6 +98,9 @@
 //! matrix its compressed storage reads the same as CSR). Symmetry and semidefiniteness are
 //! not checked (PC only needs monotonicity of G).
 
+mod local;
+mod method;
+mod nsgs;
 mod operator;
 mod outer;
 mod par;
@@ -98,6 +109,8 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 
+pub use method::{AUTO_NSGS_ROWS, Method};
+pub use nsgs::STALL_SWEEPS;
 pub use operator::Operator;
 
 /// G(z) = q + W z, with the rows grouped in per-contact blocks: block k is rows
@@ -133,6 +146,28 @@ pub trait BoundRule {
             self.block_bounds(k, z, &mut lo[b[0]..b[1]], &mut hi[b[0]..b[1]]);
         }
     }
+
+    /// The bounds of block k in closed form as functions of its own first row, with every
+    /// other dependence frozen at z ([`BlockLaw`]); `None` (the default) when the rule has no
+    /// such form, and the NSGS local solver then uses [`Self::block_bounds`] at z as a fixed
+    /// box. It may be a different description of the same constraint, but every z that solves
+    /// the local problems of this form for all blocks must solve the VI of the boxes
+    /// `block_bounds` gives at z: the residual, and so convergence, is always judged with
+    /// `block_bounds`.
+    fn block_law(&self, _k: usize, _z: &[f64]) -> Option<BlockLaw> {
+        None
+    }
+}
+
+/// A contact block's bounds as functions of its normal value p (row 0), for the exact local
+/// solves of NSGS (math note §4.7): `p >= −tension`; row 1 + i (tangential, rolling) has
+/// `|z| <= a[i] + b[i] p` when p > 0 and `|z| <= a_open[i]` when p <= 0.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct BlockLaw {
+    pub tension: f64,
+    pub a: [f64; 2],
+    pub b: [f64; 2],
+    pub a_open: [f64; 2],
 }
 
 /// Bounds that do not depend on z: a plain VI. `lo`, `hi` cover all rows.
@@ -232,6 +267,8 @@ pub struct Stats {
     pub products: usize,
     /// Rejected trial steps (beta shrinks).
     pub shrinks: usize,
+    /// NSGS runs handed over to PC by the stall guard (0 or 1).
+    pub fallbacks: usize,
 }
 
 /// The solver with its workspace, reused across calls and steps: allocation only when a
@@ -252,7 +289,11 @@ pub struct Solver {
     /// iteration and failed to settle less often, and on a frictional square packing it
     /// converged where the exact iteration ran out of iterations.
     pub inexact: f64,
+    /// Method. [`Solver::new`] gives [`Method::Pc`], the reference (the world sets the
+    /// scene's `[solver] method`, default [`Method::Auto`], before every solve).
+    pub method: Method,
     stats: Stats,
+    nsgs: nsgs::Work,
     scaling: scaling::Scaling,
     vectors: pc::Vectors,
 }
@@ -269,7 +310,9 @@ impl Solver {
             correction: Correction::default(),
             parallel_min_rows: 20_000,
             inexact: 0.1,
+            method: Method::Pc,
             stats: Stats::default(),
+            nsgs: nsgs::Work::default(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
         }
@@ -284,6 +327,12 @@ impl Solver {
     /// Sets [`Self::parallel_min_rows`].
     pub fn with_parallel_min_rows(mut self, rows: usize) -> Solver {
         self.parallel_min_rows = rows;
+        self
+    }
+
+    /// Sets [`Self::method`].
+    pub fn with_method(mut self, method: Method) -> Solver {
+        self.method = method;
         self
     }
 
@@ -305,7 +354,6 @@ impl Solver {
         let n = p.q.len();
         self.stats = Stats::default();
         let csr = p.w.as_csr();
-        let explicit = csr.is_some();
         let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
         if !p.is_consistent(z) || !csr_ok {
             return self.invalid_input();
@@ -313,6 +361,60 @@ impl Solver {
         if n == 0 {
             return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         }
+        let nsgs_ok = csr.as_ref().is_some_and(|w| nsgs::applicable(w, p.blocks));
+        if self.method.resolve(n) != Method::Nsgs || !nsgs_ok {
+            return self.solve_pc(p, rule, z, opts);
+        }
+        let Some(w) = csr else { return self.solve_pc(p, rule, z, opts) };
+        let mut stats = Stats::default();
+        match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
+            nsgs::End::Converged { sweeps, residual } => {
+                self.stats = stats;
+                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
+            }
+            nsgs::End::Fallback { sweeps } => {
+                let mut r = self.fallback(p, rule, z, opts, sweeps);
+                r.inner_iterations += sweeps;
+                self.stats.products += stats.products;
+                self.stats.fallbacks = 1;
+                r
+            }
+        }
+    }
+
+    /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
+    /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
+    /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
+    /// judged against the warm start's scale, not against the grown NSGS iterate).
+    fn fallback(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        sweeps: usize,
+    ) -> Report {
+        let left = opts.max_iterations.saturating_sub(sweeps);
+        let first = Options { max_iterations: left / 2, ..*opts };
+        let r = self.solve_pc(p, rule, z, &first);
+        if r.converged {
+            return r;
+        }
+        let products = self.stats.products;
+        z.copy_from_slice(self.nsgs.warm_start());
+        let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
+        let mut r2 = self.solve_pc(p, rule, z, &rest);
+        r2.inner_iterations += r.inner_iterations;
+        r2.outer_iterations += r.outer_iterations;
+        self.stats.products += products;
+        r2
+    }
+
+    /// The PC path (math note §4.2–4.3).
+    fn solve_pc(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+        let n = p.q.len();
+        let csr = p.w.as_csr();
+        let explicit = csr.is_some();
         let max_diag = match csr {
             Some(w) => match self.scaling.setup_csr(w, opts.jacobi) {
                 Some(d) => d,

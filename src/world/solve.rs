@@ -66,6 +66,7 @@ impl Runner<'_> {
         let started = Instant::now();
         let rule = world.bounds(laws);
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
+        self.pipeline.vi.method = world.model.solver.method;
         let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
         if !r.converged {
             let (step, residual, iterations) = (self.step, r.residual, r.inner_iterations);

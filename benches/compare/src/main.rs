@@ -1,0 +1,182 @@
+//! pbdda against rapier2d-f64 on the benchmark piles of issue 10 (`DiskPile::benchmark`:
+//! radius 0.5, density 1, μ 0.6, dt 1/60, hexagonal packing in a box, g = 9.81): time per
+//! step, solver iterations, step-1 force error and sink.
+//!
+//! * Force error: relative L2 of the per-pair contact normal forces at step 1 against pbdda's
+//!   forces at VI tolerance 1e-10 (PC), over the union of touching body pairs (a pair missing on
+//!   one side counts as zero force there). rapier's force of a pair is |total impulse| / dt.
+//! * Sink: mean drop of the disks' centres after `STEPS` steps.
+//! * rapier at its defaults (4 solver iterations, 30 Hz contacts) and at high accuracy (256
+//!   iterations, contacts at 1e4 Hz).
+//!
+//! `cargo run --release [-- 10000]` (also the 10 000 pile; slow with PC).
+
+use pbdda::generate::DiskPile;
+use pbdda::vi::Method;
+use pbdda::world::World;
+use rapier2d_f64::prelude::*;
+use std::collections::HashMap;
+use std::time::Instant;
+
+const STEPS: usize = 20;
+
+type Pairs = HashMap<(usize, usize), f64>;
+
+fn key(a: usize, b: usize) -> (usize, usize) {
+    (a.min(b), a.max(b))
+}
+
+/// pbdda run: (ms per step, mean iterations, step-1 pair forces, sink).
+fn pbdda_run(pile: &DiskPile, method: Method, tol: f64, steps: usize) -> (f64, f64, Pairs, f64) {
+    let mut m = pile.model();
+    m.solver.method = method;
+    m.solver.tolerance = tol;
+    let mut w = World::new(m);
+    let y0: Vec<f64> = w.bodies.iter().map(|b| b.centroid.y).collect();
+    let (mut pairs, mut iters, mut secs) = (Pairs::new(), 0.0, 0.0);
+    for s in 0..steps {
+        let t = Instant::now();
+        let rec = w.step().expect("pbdda step");
+        secs += t.elapsed().as_secs_f64();
+        iters += rec.inner_iterations as f64;
+        if s == 0 {
+            for c in &rec.contacts {
+                *pairs.entry(key(c.body_a, c.body_b)).or_default() += c.normal_force;
+            }
+        }
+    }
+    let disks = (3..w.bodies.len()).collect::<Vec<_>>();
+    let sink = disks.iter().map(|&i| y0[i] - w.bodies[i].centroid.y).sum::<f64>() / disks.len() as f64;
+    (secs * 1e3 / steps as f64, iters / steps as f64, pairs, sink)
+}
+
+/// rapier run with `iterations` solver iterations and contact frequency `hz` (None: defaults).
+fn rapier_run(
+    pile: &DiskPile,
+    iterations: Option<usize>,
+    hz: Option<f64>,
+    steps: usize,
+) -> (f64, Pairs, f64) {
+    let r = pile.radius;
+    let width = 2.0 * r * pile.columns as f64 + r;
+    let height = (pile.rows as f64 + 1.0) * 2.0 * r;
+    let mut bodies = RigidBodySet::new();
+    let mut colliders = ColliderSet::new();
+    let mut owner: HashMap<ColliderHandle, usize> = HashMap::new();
+    // walls as in DiskPile::model: floor, left, right (pbdda bodies 0, 1, 2)
+    for (i, (x0, y0, x1, y1)) in
+        [(-r, -r, width + r, 0.0), (-r, 0.0, 0.0, height), (width, 0.0, width + r, height)]
+            .into_iter()
+            .enumerate()
+    {
+        let c = ColliderBuilder::cuboid(0.5 * (x1 - x0), 0.5 * (y1 - y0))
+            .translation(Vector::new(0.5 * (x0 + x1), 0.5 * (y0 + y1)))
+            .friction(pile.friction);
+        owner.insert(colliders.insert(c), i);
+    }
+    let dy = 3f64.sqrt() * r;
+    let mut handles = Vec::new();
+    for row in 0..pile.rows {
+        for col in 0..pile.columns {
+            let x = r + 2.0 * r * col as f64 + if row % 2 == 1 { r } else { 0.0 };
+            let y = r + dy * row as f64;
+            let h = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(x, y)));
+            let c = ColliderBuilder::ball(r).density(pile.density).friction(pile.friction);
+            owner.insert(colliders.insert_with_parent(c, h, &mut bodies), 3 + handles.len());
+            handles.push((h, y));
+        }
+    }
+    let mut params = IntegrationParameters { dt: pile.dt, ..IntegrationParameters::default() };
+    if let Some(n) = iterations {
+        params.num_solver_iterations = n;
+    }
+    if let Some(f) = hz {
+        params.contact_softness.natural_frequency = f;
+        params.static_contact_softness.natural_frequency = f;
+    }
+    let (mut pipeline, mut islands, mut broad, mut narrow) =
+        (PhysicsPipeline::new(), IslandManager::new(), DefaultBroadPhase::default(), NarrowPhase::new());
+    let (mut ij, mut mj, mut ccd) = (ImpulseJointSet::new(), MultibodyJointSet::new(), CCDSolver::new());
+    let mut soft = SoftBodySet::new();
+    let gravity = Vector::new(0.0, -9.81);
+    let (mut pairs, mut secs) = (Pairs::new(), 0.0);
+    for s in 0..steps {
+        let t = Instant::now();
+        pipeline.step(
+            gravity,
+            &params,
+            &mut islands,
+            &mut broad,
+            &mut narrow,
+            &mut bodies,
+            &mut colliders,
+            &mut ij,
+            &mut mj,
+            &mut soft,
+            &mut ccd,
+            &(),
+            &(),
+        );
+        secs += t.elapsed().as_secs_f64();
+        if s == 0 {
+            for p in narrow.contact_pairs() {
+                let f = p.total_impulse().length() / pile.dt;
+                if f > 0.0 {
+                    *pairs.entry(key(owner[&p.collider1], owner[&p.collider2])).or_default() += f;
+                }
+            }
+        }
+    }
+    let sink =
+        handles.iter().map(|(h, y)| y - bodies[*h].translation().y).sum::<f64>() / handles.len() as f64;
+    (secs * 1e3 / steps as f64, pairs, sink)
+}
+
+fn error(a: &Pairs, reference: &Pairs) -> f64 {
+    let keys: std::collections::BTreeSet<_> = a.keys().chain(reference.keys()).collect();
+    let (mut num, mut den) = (0.0, 0.0);
+    for k in keys {
+        let (x, y) = (a.get(k).copied().unwrap_or(0.0), reference.get(k).copied().unwrap_or(0.0));
+        num += (x - y) * (x - y);
+        den += y * y;
+    }
+    (num / den).sqrt()
+}
+
+fn main() {
+    let big = std::env::args().any(|a| a == "10000");
+    let mut piles = vec![("1,000 disks", DiskPile::benchmark(40, 25))];
+    if big {
+        piles.push(("10,000 disks", DiskPile::benchmark(100, 100)));
+    }
+    println!(
+        "| pile | engine | ms/step | iterations/step | step-1 force error | sink [m] after {STEPS} steps |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for (name, pile) in piles {
+        let (_, _, reference, _) = pbdda_run(&pile, Method::Pc, 1e-10, 1);
+        for (label, method) in [("pbdda pc 1e-6", Method::Pc), ("pbdda nsgs 1e-6", Method::Nsgs)] {
+            let (ms, it, pairs, sink) = pbdda_run(&pile, method, 1e-6, STEPS);
+            println!(
+                "| {name} | {label} | {ms:.2} | {it:.0} | {:.2e} | {sink:.2e} |",
+                error(&pairs, &reference)
+            );
+            if method == Method::Nsgs {
+                // the pile is hyperstatic: frictional forces are not unique, so also against
+                // the same method's own converged forces
+                let (_, _, own, _) = pbdda_run(&pile, method, 1e-10, 1);
+                println!("| {name} | {label}, error vs nsgs 1e-10 | | | {:.2e} | |", error(&pairs, &own));
+            }
+        }
+        for (label, it, hz) in
+            [("rapier default", None, None), ("rapier 256 it., 1e4 Hz", Some(256), Some(1e4))]
+        {
+            let (ms, pairs, sink) = rapier_run(&pile, it, hz, STEPS);
+            let iters = it.unwrap_or(4);
+            println!(
+                "| {name} | {label} | {ms:.2} | {iters} | {:.2e} | {sink:.2e} |",
+                error(&pairs, &reference)
+            );
+        }
+    }
+}

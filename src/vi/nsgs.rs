@@ -1,0 +1,230 @@
+//! Nonsmooth block Gauss-Seidel (NSGS) over the blocks, as in LMGC90 and Siconos (math note
+//! §4.7): block k in turn is solved exactly ([`super::local`]) with the other blocks' values
+//! fixed, its bounds taken from the bound rule at the current iterate (so a joint partner's
+//! latest forces are seen at once, and no outer passes are needed). Every few sweeps the
+//! scaled natural residual of math note §4.3 is evaluated with the bounds of the current
+//! iterate: the same test and reported value as PC. A stall guard hands slow runs to PC.
+
+// NaN-safe `!(a <= b)` tests.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::local::{Local, MAX};
+use super::{BoundRule, Options, Stats, Status};
+use sprs::CsMatView;
+
+/// Sweeps between residual checks once the first few are done.
+const CHECK_EVERY: usize = 8;
+/// Stall guard: the residual must halve within this many sweeps, else PC takes over.
+pub const STALL_SWEEPS: usize = 400;
+
+/// Work storage, reused across calls.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Work {
+    /// Per block: its m×m diagonal block of W (stride MAX).
+    diag: Vec<[[f64; MAX]; MAX]>,
+    /// Bounds of the current iterate (residual) and the warm start.
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    z0: Vec<f64>,
+}
+
+/// How an NSGS run ended.
+pub(super) enum End {
+    /// Residual at or below tolerance.
+    Converged { sweeps: usize, residual: f64 },
+    /// Hand over to PC from the current z (stall, sweep cap, or a block it cannot solve);
+    /// z holds the iterate to warm-start from.
+    Fallback { sweeps: usize },
+}
+
+/// Can NSGS take this problem? Blocks of 1..=MAX rows with positive finite diagonals.
+pub(super) fn applicable(w: &CsMatView<'_, f64>, blocks: &[usize]) -> bool {
+    let ok_blocks = blocks.windows(2).all(|b| (1..=MAX).contains(&(b[1] - b[0])));
+    ok_blocks && w.is_csr()
+}
+
+impl Work {
+    /// The warm start of the last run.
+    pub fn warm_start(&self) -> &[f64] {
+        &self.z0
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    /// Runs NSGS from z (overwritten). `stats.products` counts sweeps and residual checks
+    /// (each one pass over W).
+    pub fn run(
+        &mut self,
+        w: CsMatView<'_, f64>,
+        q: &[f64],
+        blocks: &[usize],
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        stats: &mut Stats,
+    ) -> End {
+        let n = q.len();
+        self.z0.clear();
+        self.z0.extend_from_slice(z);
+        if !self.setup(w, blocks, n) {
+            return End::Fallback { sweeps: 0 };
+        }
+        let (indptr, cols, vals) = (w.indptr(), w.indices(), w.data());
+        let indptr = indptr.as_slice().unwrap_or(&[]);
+        if indptr.len() != n + 1 {
+            return End::Fallback { sweeps: 0 };
+        }
+        let cap = opts.max_iterations;
+        // Growth test as in PC (module docs of `vi`): iterates beyond growth * S run along a
+        // ray of an unbounded problem; PC from the warm start then reports it.
+        let tol = opts.tolerance;
+        let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
+        let limit = growth * self.start_scale(indptr, cols, vals, q, z);
+        let (mut ref_res, mut ref_at) = (f64::INFINITY, 0usize);
+        let mut sweeps = 0;
+        loop {
+            if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
+                stats.products += 1;
+                let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z);
+                if !res.is_finite() || zn > limit {
+                    z.copy_from_slice(&self.z0);
+                    return End::Fallback { sweeps };
+                }
+                if res <= opts.tolerance {
+                    stats.status = Status::Converged;
+                    return End::Converged { sweeps, residual: res };
+                }
+                if res <= 0.5 * ref_res {
+                    (ref_res, ref_at) = (res, sweeps);
+                } else if sweeps - ref_at >= STALL_SWEEPS {
+                    return End::Fallback { sweeps };
+                }
+            }
+            if sweeps >= cap {
+                return End::Fallback { sweeps };
+            }
+            stats.products += 1;
+            self.sweep(indptr, cols, vals, q, blocks, rule, z);
+            sweeps += 1;
+        }
+    }
+
+    /// Extracts the diagonal blocks; false when a block has a non-positive or non-finite
+    /// diagonal entry or a column index out of range.
+    fn setup(&mut self, w: CsMatView<'_, f64>, blocks: &[usize], n: usize) -> bool {
+        self.diag.clear();
+        for b in blocks.windows(2) {
+            let mut a = [[0.0; MAX]; MAX];
+            for i in b[0]..b[1] {
+                let Some(row) = w.outer_view(i) else { return false };
+                for (j, &v) in row.iter() {
+                    if j >= n {
+                        return false;
+                    }
+                    if (b[0]..b[1]).contains(&j) {
+                        a[i - b[0]][j - b[0]] += v;
+                    }
+                }
+                let d = a[i - b[0]][i - b[0]];
+                if !(d > 0.0 && d.is_finite()) {
+                    return false;
+                }
+            }
+            self.diag.push(a);
+        }
+        for v in [&mut self.lo, &mut self.hi] {
+            v.clear();
+            v.resize(n, 0.0);
+        }
+        true
+    }
+
+    /// One Gauss-Seidel sweep over the blocks in order (math note §4.7).
+    #[allow(clippy::too_many_arguments)]
+    fn sweep(
+        &mut self,
+        indptr: &[usize],
+        cols: &[usize],
+        vals: &[f64],
+        q: &[f64],
+        blocks: &[usize],
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+    ) {
+        // Rules without a closed form: the box of the iterate at the start of the sweep.
+        let mut have_box = false;
+        for (k, b) in blocks.windows(2).enumerate() {
+            let (r0, m) = (b[0], b[1] - b[0]);
+            let mut l = Local { m, a: self.diag[k], r: [0.0; MAX] };
+            let mut zk = [0.0; MAX];
+            zk[..m].copy_from_slice(&z[r0..r0 + m]);
+            // r = q_k + (W z)_k − A z_k
+            for i in 0..m {
+                let row = r0 + i;
+                let mut acc = q[row];
+                for p in indptr[row]..indptr[row + 1] {
+                    acc += vals[p] * z[cols[p]];
+                }
+                l.r[i] = acc - (0..m).map(|j| l.a[i][j] * zk[j]).sum::<f64>();
+            }
+            let _exact = match rule.block_law(k, z).filter(|_| m >= 2) {
+                Some(law) => l.solve_law(&law, &mut zk),
+                None => {
+                    if !have_box {
+                        rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
+                        have_box = true;
+                    }
+                    l.solve_box(&self.lo[r0..r0 + m], &self.hi[r0..r0 + m], &mut zk)
+                }
+            };
+            z[r0..r0 + m].copy_from_slice(&zk[..m]);
+        }
+    }
+
+    /// The scaled natural residual of math note §4.3 with the bounds of z:
+    /// ||z − P[z − D⁻¹ G(z)]||_inf / max(1, ||z||_inf); +inf when a NaN appears or the bounds
+    /// are invalid.
+    #[allow(clippy::too_many_arguments)]
+    fn residual(
+        &mut self,
+        indptr: &[usize],
+        cols: &[usize],
+        vals: &[f64],
+        q: &[f64],
+        blocks: &[usize],
+        rule: &dyn BoundRule,
+        z: &[f64],
+    ) -> (f64, f64) {
+        rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
+        let (mut r, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0);
+        for b in blocks.windows(2) {
+            for i in b[0]..b[1] {
+                let (mut g, mut d) = (q[i], 0.0);
+                for p in indptr[i]..indptr[i + 1] {
+                    g += vals[p] * z[cols[p]];
+                    if cols[p] == i {
+                        d += vals[p];
+                    }
+                }
+                let (l, h) = (self.lo[i], self.hi[i]);
+                if !(l <= h) {
+                    return (f64::INFINITY, 0.0);
+                }
+                let zi = z[i];
+                r = r.max((zi - (zi - g / d).max(l).min(h)).abs());
+                zn = zn.max(zi.abs());
+                bad += zi * 0.0 + g * 0.0;
+            }
+        }
+        if bad.is_finite() { (r / zn.max(1.0), zn) } else { (f64::INFINITY, zn) }
+    }
+
+    /// S = max(1, ||D⁻¹q||_inf, ||z_start||_inf) of the growth test.
+    fn start_scale(&self, indptr: &[usize], cols: &[usize], vals: &[f64], q: &[f64], z: &[f64]) -> f64 {
+        let mut s = 1.0f64;
+        for i in 0..q.len() {
+            let d: f64 = (indptr[i]..indptr[i + 1]).filter(|&p| cols[p] == i).map(|p| vals[p]).sum();
+            s = s.max((q[i] / d).abs()).max(z[i].abs());
+        }
+        s
+    }
+}

@@ -1,0 +1,54 @@
+//! Every VI method (`[solver] method`, math note §4.2 and §4.7) reproduces the paper's examples
+//! §7.1–7.8: the rows of `pbdda validate` (closed forms of design note §7, `cli::validate::exact`,
+//! each row with the tolerance justified in its note) are run with the method forced on every
+//! scene, and every row must lie within its tolerance. The QVIs of these scenes have unique
+//! solutions where the rows compare forces (statically determinate supports, §7.2 compares
+//! the reactions the paper's Table 2 gives), so forces are comparable across methods.
+
+use pbdda::cli::validate::{Row, rows_with};
+use pbdda::scene::Override;
+
+fn run(method: &str) -> Vec<Row> {
+    let o = Override::parse(&format!("solver.method={method}")).expect("a valid override");
+    let rows = rows_with(&[o]).expect("every example runs");
+    // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6 (as tests/validate.rs)
+    assert_eq!(rows.len(), 41);
+    rows
+}
+
+fn check(method: &str) {
+    let rows = run(method);
+    let bad: Vec<String> = rows
+        .iter()
+        .filter(|r| !r.within())
+        .map(|r| {
+            format!("{} {}: {} vs exact {} (tol {:e})", r.example, r.quantity, r.pbdda, r.exact, r.tolerance)
+        })
+        .collect();
+    assert!(bad.is_empty(), "method {method}: {} rows outside tolerance:\n{}", bad.len(), bad.join("\n"));
+}
+
+#[test]
+fn paper_examples_with_pc() {
+    check("pc");
+}
+
+#[test]
+fn paper_examples_with_nsgs() {
+    check("nsgs");
+}
+
+#[test]
+fn paper_examples_with_auto() {
+    check("auto");
+}
+
+/// A method name outside the list is a typed error naming the key (scene-format contract).
+#[test]
+fn unknown_method_is_an_error() {
+    let o = Override::parse("solver.method=cg").expect("a valid override");
+    let e = pbdda::scene::load_with(std::path::Path::new("examples/7_1_disk_heap.toml"), &[o]);
+    let Err(e) = e else { panic!("an unknown method was accepted") };
+    let msg = format!("{e:?}");
+    assert!(msg.contains("method must be one of"), "{msg}");
+}
