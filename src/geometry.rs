@@ -102,16 +102,20 @@ pub fn check_simple_polygon(v: &[Vec2]) -> Result<(), PolygonDefect> {
     }
     // tolerances relative to the polygon's own size, not to its distance from the origin
     let b = Aabb::of_points(v);
-    let scale = (b.max - b.min).norm().max(1e-300);
+    // hypot, not norm: lengths of coordinates near 1e200 must not overflow to inf
+    let length = |d: Vec2| d.x.hypot(d.y);
+    let scale = length(b.max - b.min).max(1e-300);
     for i in 0..n {
-        if (v[(i + 1) % n] - v[i]).norm() <= 1e-12 * scale {
+        if length(v[(i + 1) % n] - v[i]) <= 1e-12 * scale {
             return Err(PolygonDefect::ZeroLengthEdge(i));
         }
     }
     if let Some((i, j)) = sweep_crossing(v) {
         return Err(PolygonDefect::SelfIntersection(i.min(j), i.max(j)));
     }
-    if signed_area2(v).abs() <= 1e-12 * scale * scale {
+    // an area that overflows is not zero (the scene reader rejects it as out of range)
+    let area = signed_area2(v).abs();
+    if area.is_finite() && area <= (1e-6 * scale) * (1e-6 * scale) {
         return Err(PolygonDefect::ZeroArea);
     }
     Ok(())

@@ -209,7 +209,7 @@ fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
     }
     let n = (ratio - 1e-9).ceil();
     if !(n <= MAX_STEPS as f64) {
-        let message = format!("end / step = {end} / {step} is {n:e} steps, more than {MAX_STEPS:e}");
+        let message = format!("end / step = {end:e} / {step:e} is {n:e} steps, more than {MAX_STEPS:e}");
         return fail(span, message);
     }
     Ok(n as usize)

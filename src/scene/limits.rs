@@ -123,7 +123,11 @@ fn masses(body: &Body, r: &raw::Body, material: &str, (dt, dt_span): (f64, &Rang
         ("rotational step flexibility dt²/(2I)", 1.0 / (m[(2, 2)] * k)),
     ] {
         if !sound(x, false) {
-            let message = format!("dt = {dt:e} makes the {what} of body \"{name}\" ({x:e}) {}", fault(x));
+            let message = format!(
+                "dt = {dt:e} makes the {what} of body \"{name}\" ({x:e}) {} (mass m = {:e}, material \"{material}\")",
+                fault(x),
+                m[(0, 0)]
+            );
             return fail(dt_span.clone(), message);
         }
     }
