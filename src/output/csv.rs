@@ -174,7 +174,7 @@ impl CsvWriter {
 
     fn write_step_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
         let s = rec.step;
-        if s % self.steps_every == 0 || s == self.last_step {
+        if s.is_multiple_of(self.steps_every) || s == self.last_step {
             self.steps_row(rec)?;
         }
         for w in &rec.warnings {
@@ -183,7 +183,7 @@ impl CsvWriter {
         for e in &rec.events {
             writeln!(self.log.rows, "event: {e}")?;
         }
-        if s % self.every == 0 || s == self.last_step {
+        if s.is_multiple_of(self.every) || s == self.last_step {
             self.write_state(world, rec)?;
         }
         // steps.csv last: it never names a step whose state rows are not all written

@@ -208,7 +208,7 @@ fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
         return fail(span, format!("end = {end} is less than one step of {step}"));
     }
     let n = (ratio - 1e-9).ceil();
-    if !(n <= MAX_STEPS as f64) {
+    if n.is_nan() || n > MAX_STEPS as f64 {
         let message = format!("end / step = {end:e} / {step:e} is {n:e} steps, more than {MAX_STEPS:e}");
         return fail(span, message);
     }
