@@ -63,7 +63,7 @@ fn stop_flag() -> Arc<AtomicBool> {
 struct Plan<'a> {
     out: &'a Path,
     quiet: bool,
-    /// (every N steps, the checkpoint to update) for `--checkpoint-every N`.
+    /// The checkpoint to update every `every` steps (`--checkpoint-every N`, and resumed runs).
     checkpoint: Option<Checkpoint>,
 }
 
@@ -161,6 +161,14 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
         }
     }
     progress.finish();
+    if plan.checkpoint.is_some() {
+        // a finished run needs no restart file (and `resume` of it would only replay)
+        let path = plan.out.join(crate::checkpoint::CHECKPOINT_FILE);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e).into_diagnostic(),
+            _ => {}
+        }
+    }
     summary.wall_seconds = started.elapsed().as_secs_f64();
     writers.log(&summary.log_line())?;
     if !plan.quiet {
