@@ -65,13 +65,13 @@ fn assert_whole_rows(path: &Path) {
 }
 
 fn wait_for(what: impl Fn() -> bool) {
-    for _ in 0..2000 {
+    for _ in 0..12_000 {
         if what() {
             return;
         }
         std::thread::sleep(Duration::from_millis(5));
     }
-    panic!("the run did not get there in 10 s");
+    panic!("the run did not get there in 60 s");
 }
 
 #[test]

@@ -99,14 +99,15 @@ impl CsvWriter {
         overwrite: bool,
     ) -> Result<CsvWriter, OutputError> {
         fs::create_dir_all(dir).map_err(io_err(dir))?;
-        for name in OUTPUT_FILES {
+        let earlier: Vec<&str> = OUTPUT_FILES.into_iter().filter(|name| dir.join(name).exists()).collect();
+        if let (Some(name), false) = (earlier.first(), overwrite) {
+            return Err(OutputError::WouldMix { dir: dir.to_path_buf(), file: name.to_string() });
+        }
+        // steps.csv before the state files: a run killed while replacing them never leaves an
+        // earlier steps.csv beside newer, shorter state files
+        for name in earlier.into_iter().rev() {
             let path = dir.join(name);
-            if path.exists() {
-                if !overwrite {
-                    return Err(OutputError::WouldMix { dir: dir.to_path_buf(), file: name.to_string() });
-                }
-                fs::remove_file(&path).map_err(io_err(&path))?;
-            }
+            fs::remove_file(&path).map_err(io_err(&path))?;
         }
         let open = |name: &str, header: &str| -> Result<Sink, OutputError> {
             let path = dir.join(name);
