@@ -1,8 +1,9 @@
 //! The four CSV files of the output contract, written as the run goes. Each step's rows are
 //! formatted into one buffer per file and written with one `write_all`, in the order
-//! bodies.csv, contacts.csv, monitors.csv and steps.csv last: a killed run never leaves a cut
-//! row (short writes to a regular file are whole), and `steps.csv` never runs ahead of the
-//! state files, so its last row names a step whose rows are all written.
+//! bodies.csv, contacts.csv, monitors.csv and steps.csv last: a killed run leaves no cut row
+//! (save one case: under SIGKILL, Linux may stop a write at a 4096-byte page boundary of the
+//! file; `pbdda resume` drops such a row), and `steps.csv` never runs ahead of the state files,
+//! so its last row names a step whose rows are all written.
 
 use crate::world::{StepRecord, World};
 use std::fs::{self, File};
