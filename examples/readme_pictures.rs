@@ -36,7 +36,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let ring = run("ring", model, steps)?;
     let opts = PlotOptions { bodies: vec![], size: (900, 650), png: true, svg: false };
     let written = plot_results(&ring, &ring.join("plots"), &opts)?;
-    let chosen = written.iter().find(|p| p.to_string_lossy().contains("contact_forces")).ok_or("no contact figure")?;
+    let chosen =
+        written.iter().find(|p| p.to_string_lossy().contains("contact_forces")).ok_or("no contact figure")?;
     std::fs::copy(chosen, img.join("contact_forces.png"))?;
     println!("wrote {}", img.display());
     Ok(())

@@ -93,7 +93,7 @@ impl DiskPile {
             loads: vec![],
             connectors: vec![],
             monitors: vec![],
-            output: OutputSettings { every: 1, vtk: true },
+            output: OutputSettings { every: 1, steps_every: 1, vtk: true },
         }
     }
 }

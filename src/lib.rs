@@ -19,6 +19,7 @@
 //! ```
 
 pub mod body;
+pub mod checkpoint;
 pub mod cli;
 pub mod cluster;
 pub mod connector;

@@ -289,6 +289,8 @@ pub struct Monitor {
 pub struct OutputSettings {
     /// Write every N-th step (the last step is always written).
     pub every: usize,
+    /// Write a `steps.csv` row every N-th step (the last step always); default `every`.
+    pub steps_every: usize,
     /// Write the ParaView time series `DIR/vtk/` (default true).
     pub vtk: bool,
 }

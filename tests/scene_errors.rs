@@ -562,8 +562,9 @@ fn ring_needs_inner_radius() {
 
 #[test]
 fn counter_clockwise_polygon_is_kept() {
-    let kept = ok(&polygon("[[0, 0], [1, 0], [0, 1]]")).bodies[1].shape.clone();
-    let ccw = vec![Vec2::zeros(), v(1.0, 0.0), v(0.0, 1.0)];
+    // beside the unit disk at the origin, not inside it
+    let kept = ok(&polygon("[[5, 0], [6, 0], [5, 1]]")).bodies[1].shape.clone();
+    let ccw = vec![v(5.0, 0.0), v(6.0, 0.0), v(5.0, 1.0)];
     assert_eq!(kept, Shape::Polygon { vertices: ccw });
 }
 
@@ -745,4 +746,68 @@ proptest! {
 #[test]
 fn names_must_be_csv_safe() {
     fails(&edit(10, "name = \"d,1\""), "10 body[0].name: without commas");
+}
+
+// ---------------------------------------------------------------- scenes that cannot run
+// (issue 11, point 3): the rule, its line and its key; the numbers are the scene's own.
+
+/// 1e300 s in steps of 1 ms is 1e303 steps, not a saturated 1.8e19; 1e9 steps is the bound,
+/// and half a step is not one step.
+#[test]
+fn step_counts_are_bounded() {
+    fails(&edit(5, "end = 1e300"), "5 time.end: is 1e303 steps, more than 1e9");
+    fails(&edit(5, "steps = 1000000001"), "5 time.steps: more than 1e9");
+    assert_eq!(ok(&edit(5, "steps = 1000000000")).time.steps, 1_000_000_000);
+    fails(&edit(5, "end = 0.0005"), "5 time.end: less than one step");
+}
+
+/// Radius 1e308 makes the area πr² infinite; 1e-320 makes it zero; a density of 1e-320 makes
+/// the mass subnormal; dt = 1e-160 makes 2m/dt² infinite; |g| = 1e307 makes m·g infinite
+/// (m = 2500π).
+#[test]
+fn first_step_magnitudes_must_be_finite_and_normal() {
+    fails(&edit(13, "radius = 1e308"), "13 body[0].radius: area");
+    fails(&edit(13, "radius = 1e-320"), "13 body[0].radius: underflows");
+    fails(&edit(8, "density = 1e-320"), "14 body[0].material: mass");
+    fails(&edit(4, "step = 1e-160"), "4 time.step: 2m/dt²");
+    fails(&edit(5, "steps = 10\n[physics]\ngravity = [0.0, -1e307]"), "7 physics.gravity: m·g");
+}
+
+/// A load on a fixed body would be dropped; a monitor 10 m from a unit disk is a typo.
+#[test]
+fn loads_and_monitors_must_fit_their_body() {
+    let fixed = edit(
+        14,
+        "material = \"rock\"\nfixed = true\n[[load]]\nbody = \"d1\"\npoint = [0.0, 0.0]\nforce = [1.0, 0.0]",
+    );
+    fails(&fixed, "17 load[0].body: fixed body \"d1\"");
+    let far = append("[[monitor]]\nname = \"m\"\nbody = \"d1\"\npoint = [10.0, 0.0]\n");
+    fails(&far, "18 monitor[0].point: outside body \"d1\"");
+    // 1 m beyond the rim of a disk of diameter 2 is near enough
+    assert_eq!(
+        ok(&append("[[monitor]]\nname = \"m\"\nbody = \"d1\"\npoint = [2.0, 0.0]\n")).monitors.len(),
+        1
+    );
+}
+
+/// A small disk inside the unit disk, and a second unit disk at the same place.
+#[test]
+fn body_inside_another_is_rejected() {
+    let inner = second_body("disk", "center = [0.1, 0.0]\nradius = 0.5\n");
+    fails(&inner, "19 body[1].center: body \"b2\" lies inside body \"d1\"");
+    let twin = second_body("disk", "center = [0.0, 0.0]\nradius = 1.0\n");
+    fails(&twin, "19 body[1].center: lies inside body");
+    // touching disks are a contact, not an overlap
+    assert_eq!(ok(&second_body("disk", "center = [2.0, 0.0]\nradius = 1.0\n")).bodies.len(), 2);
+}
+
+/// A byte that is not UTF-8 (Latin-1 'é') on line 2 is reported on line 2.
+#[test]
+fn utf8_errors_name_the_line() {
+    let mut bytes = MINIMAL.replacen("\n", " # caf\u{e9}\n", 2).into_bytes();
+    let at = bytes.windows(2).rposition(|w| w == [0xc3, 0xa9]).unwrap();
+    bytes.splice(at..at + 2, [0xe9]);
+    let e = pbdda::scene::parse_bytes(&bytes, "scene.toml").expect_err("not UTF-8");
+    assert_eq!(e.line, 2, "{e}");
+    assert!(e.message.contains("not valid UTF-8 (byte 0xe9"), "{e}");
 }

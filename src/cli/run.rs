@@ -1,14 +1,21 @@
-//! `pbdda run SCENE --out DIR [--set KEY=VALUE]...`: run a scene, writing results as it goes.
+//! `pbdda run SCENE --out DIR [--set KEY=VALUE]... [--checkpoint-every N]`: run a scene,
+//! writing results as it goes; `pbdda resume DIR`: continue a run from its checkpoint.
+//!
+//! SIGINT (Ctrl-C) and SIGTERM do not kill the run mid-write: the current step finishes, its
+//! rows are written, `interrupted at step N` goes to run.log and the exit code is non-zero.
 
 use super::progress::{Progress, ProgressMode, RunSummary};
+use crate::checkpoint::Checkpoint;
 use crate::output::connectors::ConnectorWriter;
 use crate::output::csv::{CsvWriter, OutputError};
 use crate::output::results::write_geometry;
 use crate::output::vtk::VtkWriter;
 use crate::scene::{self, Override};
 use crate::world::{StepRecord, World};
-use miette::Result;
+use miette::{IntoDiagnostic, Result, miette};
 use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// Everything a run writes as it goes: the CSVs, the starting geometry (`geometry.csv`, for
@@ -23,7 +30,8 @@ impl Writers {
     /// Creates the output directory's files; refuses an earlier run's files unless `overwrite`.
     fn create(out: &Path, world: &World, overwrite: bool) -> Result<Writers, OutputError> {
         let model = &world.model;
-        let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?;
+        let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?
+            .steps_every(model.output.steps_every);
         // after the CSV writer's overwrite check: the VTK writer clears DIR/vtk
         let connectors = ConnectorWriter::create(out, world, overwrite)?;
         write_geometry(out, world)?;
@@ -45,26 +53,94 @@ impl Writers {
     }
 }
 
+/// Set by SIGINT or SIGTERM; the run loop stops after the current step.
+fn stop_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let handler_flag = flag.clone();
+    // fails only if a handler is already installed (a second run in the same process, as in
+    // tests): that run then simply cannot be interrupted gracefully
+    let _ = ctrlc::set_handler(move || handler_flag.store(true, Ordering::SeqCst));
+    flag
+}
+
+/// How a run goes on: checkpoints, terminal output.
+struct Plan<'a> {
+    out: &'a Path,
+    quiet: bool,
+    /// The checkpoint to update every `every` steps (`--checkpoint-every N`, and resumed runs).
+    checkpoint: Option<Checkpoint>,
+}
+
 pub(super) fn run(
     scene_path: &Path,
     out: &Path,
-    overwrite: bool,
-    quiet: bool,
+    (overwrite, quiet): (bool, bool),
     set: &[Override],
+    checkpoint_every: Option<usize>,
 ) -> Result<()> {
     // Validate everything before the first file is created.
     let model = scene::load_with(scene_path, set)?;
-    let steps = model.time.steps;
+    if checkpoint_every == Some(0) {
+        return Err(miette!("--checkpoint-every must be at least 1"));
+    }
+    // the text as read, for the checkpoint (load_with has just read it)
+    let source = match checkpoint_every {
+        Some(_) => std::fs::read_to_string(scene_path).into_diagnostic()?,
+        None => String::new(),
+    };
     let mut world = World::new(model);
     let mut writers = Writers::create(out, &world, overwrite)?;
     if !set.is_empty() {
         let list: Vec<String> = set.iter().map(|o| o.to_string()).collect();
         writers.log(&format!("overrides: --set {}", list.join(" --set ")))?;
     }
-    let mut progress = Progress::new(steps, ProgressMode::detect(quiet));
+    let checkpoint = checkpoint_every.map(|every| Checkpoint {
+        version: 1,
+        scene_file: scene_path.display().to_string(),
+        scene: source,
+        overrides: set.iter().map(|o| o.to_string()).collect(),
+        every,
+        step: 0,
+    });
+    drive(&mut world, &mut writers, Plan { out, quiet, checkpoint })
+}
+
+/// `pbdda resume DIR`: rebuilds the run from `DIR/checkpoint.toml`, replays its steps without
+/// output (see [`crate::checkpoint`]), cuts the CSVs back to the checkpoint's step and goes on.
+pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
+    let checkpoint = Checkpoint::read(dir)?;
+    let overrides = checkpoint
+        .overrides
+        .iter()
+        .map(|s| s.parse::<Override>().map_err(|e| miette!("{}: --set {s}: {e}", dir.display())))
+        .collect::<Result<Vec<_>>>()?;
+    let model = scene::parse_with(&checkpoint.scene, &checkpoint.scene_file, &overrides)?;
+    if !model.connectors.is_empty() {
+        // connectors.csv has no reopen yet: refuse rather than lose its rows
+        return Err(miette!("{}: resuming a scene with connectors is not supported yet", dir.display()));
+    }
+    let mut world = World::new(model);
+    for _ in 0..checkpoint.step {
+        world.step().map_err(|e| miette!("replaying to the checkpoint: {e}"))?;
+    }
+    let m = &world.model;
+    let csv = CsvWriter::reopen(dir, (m.output.every, m.output.steps_every), m.time.steps, checkpoint.step)?;
+    // the ParaView series is not continued: its index would need the earlier frames' times
+    let connectors = ConnectorWriter::create(dir, &world, false)?;
+    let mut writers = Writers { csv, connectors, vtk: None };
+    writers.log(&format!("resumed at step {} (vtk/ not continued)", checkpoint.step))?;
+    drive(&mut world, &mut writers, Plan { out: dir, quiet, checkpoint: Some(checkpoint) })
+}
+
+/// The step loop from the world's current step to the last, with output, checkpoints and the
+/// stop flag.
+fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()> {
+    let steps = world.model.time.steps;
+    let stop = stop_flag();
+    let mut progress = Progress::new(steps - world.step_index, ProgressMode::detect(plan.quiet));
     let mut summary = RunSummary::default();
     let started = Instant::now();
-    for _ in 0..steps {
+    while world.step_index < steps {
         let rec = match world.step() {
             Ok(rec) => rec,
             Err(e) => {
@@ -78,14 +154,34 @@ pub(super) fn run(
         for line in rec.warnings.iter().map(|w| format!("warning: {w}")).chain(events) {
             progress.println(&line);
         }
-        writers.write_step(&world, &rec)?;
+        writers.write_step(world, &rec)?;
         progress.step(&rec);
+        if let Some(c) = &mut plan.checkpoint
+            && rec.step % c.every == 0
+        {
+            c.step = rec.step;
+            c.write(plan.out)?;
+        }
+        if stop.load(Ordering::SeqCst) && rec.step < steps {
+            progress.finish();
+            let line = format!("interrupted at step {}", rec.step);
+            writers.log(&line)?;
+            return Err(miette!("{line} (results up to it are in {})", plan.out.display()));
+        }
     }
     progress.finish();
+    if plan.checkpoint.is_some() {
+        // a finished run needs no restart file (and `resume` of it would only replay)
+        let path = plan.out.join(crate::checkpoint::CHECKPOINT_FILE);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e).into_diagnostic(),
+            _ => {}
+        }
+    }
     summary.wall_seconds = started.elapsed().as_secs_f64();
     writers.log(&summary.log_line())?;
-    if !quiet {
-        eprint!("{}", summary.text(out));
+    if !plan.quiet {
+        eprint!("{}", summary.text(plan.out));
     }
     Ok(())
 }

@@ -1,9 +1,13 @@
-//! The four CSV files of the output contract, written as the run goes: every row of a step
-//! is flushed before the next step starts, so a crash loses at most the current step.
+//! The four CSV files of the output contract, written as the run goes. Each step's rows are
+//! formatted into one buffer per file and written with one `write_all`, in the order
+//! bodies.csv, contacts.csv, monitors.csv and steps.csv last: a killed run leaves no cut row
+//! (save one case: under SIGKILL, Linux may stop a write at a 4096-byte page boundary of the
+//! file; `pbdda resume` drops such a row), and `steps.csv` never runs ahead of the state files,
+//! so its last row names a step whose rows are all written.
 
 use crate::world::{StepRecord, World};
 use std::fs::{self, File};
-use std::io::{self, BufWriter, Write};
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// Files a run writes into its output directory (`run.log` holds warnings and the outcome).
@@ -38,21 +42,57 @@ impl std::fmt::Display for Num {
     }
 }
 
+/// One output file and the rows of the current step, not yet written.
+struct Sink {
+    file: File,
+    rows: Vec<u8>,
+}
+
+impl Sink {
+    /// Writes the step's rows with one `write_all`.
+    fn commit(&mut self) -> io::Result<()> {
+        if !self.rows.is_empty() {
+            self.file.write_all(&self.rows)?;
+            self.rows.clear();
+        }
+        Ok(())
+    }
+}
+
 /// Writers for one run.
 pub struct CsvWriter {
     dir: PathBuf,
-    bodies: BufWriter<File>,
-    contacts: BufWriter<File>,
-    monitors: BufWriter<File>,
-    steps: BufWriter<File>,
-    log: BufWriter<File>,
+    bodies: Sink,
+    contacts: Sink,
+    monitors: Sink,
+    steps: Sink,
+    log: Sink,
     every: usize,
+    steps_every: usize,
     last_step: usize,
 }
 
+/// Column headers of the four CSV files.
+const HEADERS: [(&str, &str); 4] = [
+    (
+        "bodies.csv",
+        "step,time,body,x,y,rotation,vx,vy,omega,strain_x,strain_y,strain_xy,stress_x,stress_y,stress_xy",
+    ),
+    (
+        "contacts.csv",
+        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state",
+    ),
+    ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy"),
+    (
+        "steps.csv",
+        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds",
+    ),
+];
+
 impl CsvWriter {
     /// Creates `dir` if needed and the files with their headers. Refuses a directory that
-    /// holds an earlier run's files unless `overwrite`.
+    /// holds an earlier run's files unless `overwrite`. `every` is the `[output]` key (see
+    /// [`CsvWriter::steps_every`] for `steps.csv`); `last_step` is always written.
     pub fn create(
         dir: &Path,
         every: usize,
@@ -60,53 +100,106 @@ impl CsvWriter {
         overwrite: bool,
     ) -> Result<CsvWriter, OutputError> {
         fs::create_dir_all(dir).map_err(io_err(dir))?;
-        for name in OUTPUT_FILES {
-            let path = dir.join(name);
-            if path.exists() {
-                if !overwrite {
-                    return Err(OutputError::WouldMix { dir: dir.to_path_buf(), file: name.to_string() });
-                }
-                fs::remove_file(&path).map_err(io_err(&path))?;
-            }
+        let earlier: Vec<&str> = OUTPUT_FILES.into_iter().filter(|name| dir.join(name).exists()).collect();
+        if let (Some(name), false) = (earlier.first(), overwrite) {
+            return Err(OutputError::WouldMix { dir: dir.to_path_buf(), file: name.to_string() });
         }
-        let open = |name: &str, header: &str| -> Result<BufWriter<File>, OutputError> {
+        // steps.csv before the state files: a run killed while replacing them never leaves an
+        // earlier steps.csv beside newer, shorter state files
+        for name in earlier.into_iter().rev() {
             let path = dir.join(name);
-            let mut w = BufWriter::new(File::create(&path).map_err(io_err(&path))?);
+            fs::remove_file(&path).map_err(io_err(&path))?;
+        }
+        let open = |name: &str, header: &str| -> Result<Sink, OutputError> {
+            let path = dir.join(name);
+            let mut file = File::create(&path).map_err(io_err(&path))?;
             if !header.is_empty() {
-                writeln!(w, "{header}").map_err(io_err(&path))?;
+                file.write_all(format!("{header}\n").as_bytes()).map_err(io_err(&path))?;
             }
-            Ok(w)
+            Ok(Sink { file, rows: Vec::new() })
         };
+        let [bodies, contacts, monitors, steps] = HEADERS.map(|(name, header)| open(name, header));
         Ok(CsvWriter {
             dir: dir.to_path_buf(),
-            bodies: open(
-                "bodies.csv",
-                "step,time,body,x,y,rotation,vx,vy,omega,strain_x,strain_y,strain_xy,stress_x,stress_y,stress_xy",
-            )?,
-            contacts: open(
-                "contacts.csv",
-                "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state",
-            )?,
-            monitors: open("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy")?,
-            steps: open(
-                "steps.csv",
-                "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds",
-            )?,
+            bodies: bodies?,
+            contacts: contacts?,
+            monitors: monitors?,
+            steps: steps?,
             log: open("run.log", "")?,
             every: every.max(1),
+            steps_every: 1,
             last_step,
         })
     }
 
-    /// Writes one step: always to `steps.csv`, to the other files on every N-th and the last step.
+    /// Writes a `steps.csv` row every `n`-th step only (`[output] steps_every`; default 1).
+    pub fn steps_every(mut self, n: usize) -> CsvWriter {
+        self.steps_every = n.max(1);
+        self
+    }
+
+    /// Reopens the files of an interrupted run for appending (`pbdda resume`), first cutting
+    /// each CSV back to its rows of steps up to `step`, the checkpoint's step (a run killed
+    /// after its checkpoint wrote later rows, which the resumed run writes again).
+    pub fn reopen(
+        dir: &Path,
+        (every, steps_every): (usize, usize),
+        last_step: usize,
+        step: usize,
+    ) -> Result<CsvWriter, OutputError> {
+        let open = |name: &str, cut: bool| -> Result<Sink, OutputError> {
+            let path = dir.join(name);
+            if cut {
+                truncate_after_step(&path, step).map_err(io_err(&path))?;
+            }
+            let file = fs::OpenOptions::new().append(true).open(&path).map_err(io_err(&path))?;
+            Ok(Sink { file, rows: Vec::new() })
+        };
+        Ok(CsvWriter {
+            dir: dir.to_path_buf(),
+            bodies: open("bodies.csv", true)?,
+            contacts: open("contacts.csv", true)?,
+            monitors: open("monitors.csv", true)?,
+            steps: open("steps.csv", true)?,
+            log: open("run.log", false)?,
+            every: every.max(1),
+            steps_every: steps_every.max(1),
+            last_step,
+        })
+    }
+
+    /// Writes one step: to `steps.csv` on every `steps_every`-th step, to the other files on every
+    /// `every`-th step, both on the last step.
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         self.write_step_rows(world, rec).map_err(io_err(&self.dir))
     }
 
     fn write_step_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
+        let s = rec.step;
+        if s.is_multiple_of(self.steps_every) || s == self.last_step {
+            self.steps_row(rec)?;
+        }
+        for w in &rec.warnings {
+            writeln!(self.log.rows, "warning: {w}")?;
+        }
+        for e in &rec.events {
+            writeln!(self.log.rows, "event: {e}")?;
+        }
+        if s.is_multiple_of(self.every) || s == self.last_step {
+            self.write_state(world, rec)?;
+        }
+        // steps.csv last: it never names a step whose state rows are not all written
+        for sink in [&mut self.bodies, &mut self.contacts, &mut self.monitors, &mut self.steps, &mut self.log]
+        {
+            sink.commit()?;
+        }
+        Ok(())
+    }
+
+    fn steps_row(&mut self, rec: &StepRecord) -> io::Result<()> {
         let (s, t) = (rec.step, Num(rec.time));
         writeln!(
-            self.steps,
+            self.steps.rows,
             "{s},{t},{},{},{},{},{},{},{}",
             Num(rec.dt),
             rec.contacts.len(),
@@ -115,20 +208,7 @@ impl CsvWriter {
             Num(rec.residual),
             Num(rec.kinetic_energy),
             Num(rec.wall_seconds)
-        )?;
-        for w in &rec.warnings {
-            writeln!(self.log, "warning: {w}")?;
-        }
-        for e in &rec.events {
-            writeln!(self.log, "event: {e}")?;
-        }
-        if s % self.every == 0 || s == self.last_step {
-            self.write_state(world, rec)?;
-        }
-        for w in [&mut self.steps, &mut self.log, &mut self.bodies, &mut self.contacts, &mut self.monitors] {
-            w.flush()?;
-        }
-        Ok(())
+        )
     }
 
     fn write_state(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
@@ -137,7 +217,7 @@ impl CsvWriter {
             let (c, v) = (b.centroid, b.velocity);
             let (x, y, rot) = (Num(c.x), Num(c.y), Num(b.rotation));
             write!(
-                self.bodies,
+                self.bodies.rows,
                 "{s},{t},{},{x},{y},{rot},{},{},{}",
                 b.name,
                 Num(v[0]),
@@ -147,18 +227,18 @@ impl CsvWriter {
             // a mesh body: centroid, mean rotation and velocity only (its elements go to VTK)
             if b.deformable && b.mesh.is_none() {
                 for x in b.strain.iter().chain(b.stress.iter()) {
-                    write!(self.bodies, ",{}", Num(*x))?;
+                    write!(self.bodies.rows, ",{}", Num(*x))?;
                 }
-                writeln!(self.bodies)?;
+                writeln!(self.bodies.rows)?;
             } else {
-                writeln!(self.bodies, ",,,,,,")?;
+                writeln!(self.bodies.rows, ",,,,,,")?;
             }
         }
         for c in &rec.contacts {
             let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
             let rolling = c.rolling_moment.map_or(String::new(), |m| Num(m).to_string());
             writeln!(
-                self.contacts,
+                self.contacts.rows,
                 "{s},{t},{a},{b},{},{},{},{},{},{},{},{rolling},{},{}",
                 c.kind.as_str(),
                 Num(c.point.x),
@@ -176,7 +256,7 @@ impl CsvWriter {
             let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
             let (x, y) = (Num(p.current.x), Num(p.current.y));
             writeln!(
-                self.monitors,
+                self.monitors.rows,
                 "{s},{t},{},{x},{y},{},{},{},{}",
                 m.name,
                 Num(u.x),
@@ -190,6 +270,29 @@ impl CsvWriter {
 
     /// Appends a line to `run.log`.
     pub fn log(&mut self, line: &str) -> Result<(), OutputError> {
-        writeln!(self.log, "{line}").and_then(|_| self.log.flush()).map_err(io_err(&self.dir))
+        writeln!(self.log.rows, "{line}").and_then(|_| self.log.commit()).map_err(io_err(&self.dir))
     }
+}
+
+/// Cuts the CSV file at `path` after its last row of a step ≤ `step` (the header kept). Rows
+/// are in step order, so this keeps a prefix; a cut last row (no newline) goes too.
+fn truncate_after_step(path: &Path, step: usize) -> io::Result<()> {
+    let text = fs::read(path)?;
+    let mut keep = 0;
+    let mut first = true;
+    for line in text.split_inclusive(|&b| b == b'\n') {
+        if !line.ends_with(b"\n") {
+            break;
+        }
+        if !first {
+            let field = line.split(|&b| b == b',').next().unwrap_or_default();
+            let row_step = std::str::from_utf8(field).ok().and_then(|f| f.parse::<usize>().ok());
+            if row_step.is_none_or(|r| r > step) {
+                break;
+            }
+        }
+        first = false;
+        keep += line.len();
+    }
+    fs::OpenOptions::new().write(true).open(path)?.set_len(keep as u64)
 }

@@ -33,7 +33,7 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
     let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
     let output = output(&raw.output)?;
-    Ok(Model {
+    let model = Model {
         name: raw.scene.name.clone(),
         time,
         physics,
@@ -46,7 +46,10 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
         connectors,
         monitors,
         output,
-    })
+    };
+    super::limits::first_step(raw, &model)?;
+    super::overlap::no_body_inside_another(&model.bodies, raw.body.get_ref())?;
+    Ok(model)
 }
 
 // ---------------------------------------------------------------- numbers
@@ -176,7 +179,13 @@ fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
     let (header, t) = (t.span(), t.get_ref());
     let step = positive(&t.step, "step")?;
     let steps = match (&t.steps, &t.end) {
-        (Some(n), None) => count(n, "steps")?,
+        (Some(n), None) => {
+            let steps = count(n, "steps")?;
+            if steps > MAX_STEPS {
+                return fail(n.span(), format!("steps = {steps} is more than {MAX_STEPS:e}"));
+            }
+            steps
+        }
         (None, Some(end)) => steps_until(positive(end, "end")?, step, end.span())?,
         (Some(_), Some(end)) => fail(end.span(), "give either `steps` or `end`, not both")?,
         (None, None) => {
@@ -187,15 +196,23 @@ fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
     Ok(TimeSettings { step, steps })
 }
 
+/// The most steps a run may have: 1e9 steps of even the smallest scene take days; a larger
+/// count is a mistyped `end`, `step` or `steps`.
+pub const MAX_STEPS: usize = 1_000_000_000;
+
 /// steps = ceil(end / step - 1e-9): the 1e-9 keeps round-off such as 0.07 / 0.01 =
-/// 7.000000000000001 from adding a step.
+/// 7.000000000000001 from adding a step. `end` must be at least one step (to 1e-9).
 fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
-    let n = (end / step - 1e-9).ceil();
-    if n >= 1.0 {
-        Ok(n as usize) // saturates for absurdly long runs; never panics
-    } else {
-        fail(span, format!("end = {end} is less than one step of {step}"))
+    let ratio = end / step;
+    if ratio < 1.0 - 1e-9 {
+        return fail(span, format!("end = {end} is less than one step of {step}"));
     }
+    let n = (ratio - 1e-9).ceil();
+    if n.is_nan() || n > MAX_STEPS as f64 {
+        let message = format!("end / step = {end:e} / {step:e} is {n:e} steps, more than {MAX_STEPS:e}");
+        return fail(span, message);
+    }
+    Ok(n as usize)
 }
 
 fn physics(p: &raw::Physics) -> Check<Physics> {
@@ -229,7 +246,9 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
 }
 
 fn output(o: &raw::Output) -> Check<OutputSettings> {
-    Ok(OutputSettings { every: or_default(&o.every, "every", count, 1)?, vtk: o.vtk.unwrap_or(true) })
+    let every = or_default(&o.every, "every", count, 1)?;
+    let steps_every = or_default(&o.steps_every, "steps_every", count, every)?;
+    Ok(OutputSettings { every, steps_every, vtk: o.vtk.unwrap_or(true) })
 }
 
 // ---------------------------------------------------------------- materials and interfaces

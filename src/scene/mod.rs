@@ -11,7 +11,9 @@
 
 mod check;
 mod connectors;
+mod limits;
 mod mesh;
+mod overlap;
 pub mod overrides;
 mod raw;
 
@@ -29,8 +31,27 @@ pub use overrides::{Override, load_with, parse_with};
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.
 pub fn load(path: &Path) -> Result<Model, SceneError> {
     let file = path.display().to_string();
-    let source = std::fs::read_to_string(path).map_err(|e| SceneError::unreadable(&file, &e))?;
-    parse(&source, &file)
+    let bytes = std::fs::read(path).map_err(|e| SceneError::unreadable(&file, &e))?;
+    parse_bytes(&bytes, &file)
+}
+
+/// Validates the scene bytes `bytes`: text that is not UTF-8 is an error at the line and
+/// column of the first bad byte; `file_name` is only used in error messages.
+pub fn parse_bytes(bytes: &[u8], file_name: &str) -> Result<Model, SceneError> {
+    match std::str::from_utf8(bytes) {
+        Ok(source) => parse(source, file_name),
+        Err(e) => {
+            // the valid prefix locates the error; the bad bytes are shown replaced
+            let at = e.valid_up_to();
+            let source = String::from_utf8_lossy(bytes);
+            let shown = String::from_utf8_lossy(&bytes[..at]).len();
+            let bad = bytes[at..].iter().take(e.error_len().unwrap_or(1));
+            let hex: Vec<String> = bad.map(|b| format!("0x{b:02x}")).collect();
+            let message =
+                format!("the scene file is not valid UTF-8 (byte {} at byte offset {at})", hex.join(" "));
+            Err(SceneError::at(file_name, &source, shown..shown + 1, String::new(), message))
+        }
+    }
 }
 
 /// Validates the scene text `source`; `file_name` is only used in error messages.

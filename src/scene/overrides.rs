@@ -83,8 +83,12 @@ impl std::str::FromStr for Override {
 /// Reads the scene at `path` with `overrides` applied (in order; a later one wins).
 pub fn load_with(path: &Path, overrides: &[Override]) -> Result<Model, SceneError> {
     let file = path.display().to_string();
-    let source = std::fs::read_to_string(path).map_err(|e| SceneError::unreadable(&file, &e))?;
-    parse_with(&source, &file, overrides)
+    let bytes = std::fs::read(path).map_err(|e| SceneError::unreadable(&file, &e))?;
+    match String::from_utf8(bytes) {
+        Ok(source) => parse_with(&source, &file, overrides),
+        // not UTF-8: the reader's error names the line of the first bad byte
+        Err(e) => super::parse_bytes(e.as_bytes(), &file),
+    }
 }
 
 /// Validates the scene text `source` with `overrides` applied.

@@ -170,5 +170,6 @@ pub(super) struct Monitor {
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct Output {
     pub every: Option<Spanned<i64>>,
+    pub steps_every: Option<Spanned<i64>>,
     pub vtk: Option<bool>,
 }
