@@ -6,24 +6,13 @@ use super::SweepReport;
 use miette::{Result, miette};
 use plotters::prelude::*;
 use std::path::Path;
-use std::sync::Once;
 
 /// One error measure: legend, colour, (cost, error) points.
 type Series<'a> = (&'a str, RGBColor, Vec<(f64, f64)>);
 
-const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
-
-fn register_font() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // the font is built in: a failure here is a broken build, reported when text is drawn
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
-}
-
 /// Writes `path` (PNG, 900 x 600): log-log error against solver iterations.
 pub fn error_against_cost(report: &SweepReport, path: &Path) -> Result<()> {
-    register_font();
+    crate::output::plot::register_fonts();
     let fail = |e: &dyn std::fmt::Display| miette!("{}: cannot draw the sweep plot: {e}", path.display());
     let series: Vec<Series> = vec![
         ("monitor position [m]", BLUE, report.rows.iter().map(|r| (cost(r), r.monitor_error)).collect()),
