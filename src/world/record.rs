@@ -134,6 +134,23 @@ pub struct StageTimes {
     pub update: f64,
 }
 
+impl fmt::Display for StageTimes {
+    /// The stage times in milliseconds, in step order.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let ms = |x: f64| x * 1e3;
+        write!(
+            f,
+            "factorization+prediction {:.2}, detect {:.2}, rows+W {:.2}, VI {:.2}, refine {:.2}, update {:.2} ms",
+            ms(self.predict),
+            ms(self.detect),
+            ms(self.rows),
+            ms(self.vi),
+            ms(self.refine),
+            ms(self.update)
+        )
+    }
+}
+
 /// What one step produced.
 #[derive(Debug, Clone)]
 pub struct StepRecord {
