@@ -19,12 +19,15 @@ pub enum Method {
     /// Nonsmooth block Gauss-Seidel with exact local solves (math note §4.7); PC when W has
     /// no CSR storage, and PC from the NSGS iterate when the stall guard fires.
     Nsgs,
+    /// The outer compatibility loop of PC with MPRGP (conjugate gradients with proportioning
+    /// and projections) as the inner solver of each pass (math note §4.8).
+    Mprgp,
 }
 
 impl Method {
     /// Every method with its scene name.
-    pub const ALL: [(&'static str, Method); 3] =
-        [("auto", Method::Auto), ("pc", Method::Pc), ("nsgs", Method::Nsgs)];
+    pub const ALL: [(&'static str, Method); 4] =
+        [("auto", Method::Auto), ("pc", Method::Pc), ("nsgs", Method::Nsgs), ("mprgp", Method::Mprgp)];
 
     /// The method of a scene name (`auto`, `pc`, `nsgs`).
     pub fn parse(name: &str) -> Option<Method> {

@@ -100,6 +100,7 @@
 
 mod local;
 mod method;
+mod mprgp;
 mod nsgs;
 mod operator;
 mod outer;
@@ -435,13 +436,16 @@ impl Solver {
         };
         let mut st = pc::State::new(beta0);
         let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
-        let correction = self.correction;
+        let (correction, mprgp) = (self.correction, self.method.resolve(n) == Method::Mprgp);
+        let v = &mut self.vectors;
         let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
-            outer::solve(&pc::Ctx::new(rows, s, par, correction), &pass, &mut self.vectors, &mut st, z)
+            let gershgorin = mprgp.then(|| rows.abs_row_sum_max());
+            let c = pc::Ctx::new(rows, s, par, correction);
+            outer_run(c, &pass, v, &mut st, z, gershgorin, mprgp)
         } else {
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer::solve(&pc::Ctx::new(rows, s, par, correction), &pass, &mut self.vectors, &mut st, z)
+            outer_run(pc::Ctx::new(rows, s, par, correction), &pass, v, &mut st, z, None, mprgp)
         };
         self.stats = st.stats;
         report
@@ -451,6 +455,23 @@ impl Solver {
         self.stats.status = Status::InvalidInput;
         Report { outer_iterations: 0, inner_iterations: 0, residual: f64::INFINITY, converged: false }
     }
+}
+
+/// The outer loop with PC, or with MPRGP passes (its step length from `gershgorin`, else by
+/// power iteration).
+fn outer_run<R: scaling::Rows>(
+    mut c: pc::Ctx<R>,
+    pass: &outer::Pass,
+    v: &mut pc::Vectors,
+    st: &mut pc::State,
+    z: &mut [f64],
+    gershgorin: Option<f64>,
+    mprgp: bool,
+) -> Report {
+    if mprgp {
+        c.mprgp = Some(mprgp::step_length(&c, v, st, gershgorin));
+    }
+    outer::solve(&c, pass, v, st, z)
 }
 
 /// Convenience for tests: a fresh [`Solver`] per call.

@@ -86,7 +86,10 @@ fn passes<R: Rows>(
             return Err(Status::OuterLimit);
         }
         st.outer += 1;
-        pc::run(c, v, st, inner_tol, limit, p.opts.max_iterations)?;
+        match c.mprgp {
+            Some(abar) => super::mprgp::run(c, v, st, inner_tol, limit, p.opts.max_iterations, abar)?,
+            None => pc::run(c, v, st, inner_tol, limit, p.opts.max_iterations)?,
+        }
     }
 }
 

@@ -25,11 +25,23 @@ pub(super) struct Ctx<'a, R: Rows> {
     pub qs: &'a [f64],
     /// Rows of W that are entirely zero.
     pub zero_rows: &'a [usize],
+    /// Inner solver of the passes: PC, or MPRGP with its step length ᾱ (`mprgp.rs`).
+    pub mprgp: Option<f64>,
 }
 
 impl<'a, R: Rows> Ctx<'a, R> {
     pub fn new(rows: R, s: &'a Scaling, par: bool, correction: Correction) -> Self {
-        Ctx { rows, par, correction, sd: &s.sd, sc: &s.sc, gs: &s.gs, qs: &s.qs, zero_rows: &s.zero_rows }
+        Ctx {
+            rows,
+            par,
+            correction,
+            sd: &s.sd,
+            sc: &s.sc,
+            gs: &s.gs,
+            qs: &s.qs,
+            zero_rows: &s.zero_rows,
+            mprgp: None,
+        }
     }
 }
 

@@ -143,6 +143,13 @@ pub(super) struct Csr<'a> {
     pub vals: &'a [f64],
 }
 
+impl Csr<'_> {
+    /// Gershgorin's bound of ||Ŵ||: max_i Σ_j |Ŵ_ij|.
+    pub fn abs_row_sum_max(&self) -> f64 {
+        self.rowptr.windows(2).map(|r| self.vals[r[0]..r[1]].iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
+    }
+}
+
 impl Rows for Csr<'_> {
     #[inline(always)]
     fn prepare(&self, x: &[f64], _out: &mut [f64], _tmp: &mut [f64]) {

@@ -1,0 +1,230 @@
+//! Inner solver of a pass, alternative to PC: MPRGP (modified proportioning with reduced
+//! gradient projections; Dostál & Schöberl 2005, Dostál, *Optimal Quadratic Programming
+//! Algorithms*, 2009, §8.2), for the box-constrained quadratic program that one pass of the
+//! outer loop solves: with the box fixed, the VI of G(y) = q̂ + Ŵ y on [ylo, yhi] is the
+//! optimality condition of min ½ yᵀŴy + q̂ᵀy on the box (Ŵ symmetric PSD). Math note §4.8.
+//!
+//! Conjugate-gradient steps run on the free rows while the active set is "proportional"
+//! (the chopped gradient of the rows at a bound is small against the free gradient);
+//! otherwise a proportioning step frees rows, and a CG step that would leave the box is
+//! replaced by an expansion step (to the box boundary, then a projected gradient step of
+//! length ᾱ <= 2/||Ŵ||). On a pile of disks, whose W behaves like a discrete Laplacian
+//! over the contact network, CG needs about the square root of the iterations of a
+//! projection method (PC) or of Gauss-Seidel.
+//!
+//! Vector use (`Vectors`): `y` the iterate, `wy` = Ŵy (kept up to date by the step updates
+//! and recomputed by a full product every [`REFRESH`] iterations and after each expansion),
+//! `yt` the search direction p, `wyt` = Ŵp. Serial: the passes are cheap vector work next to
+//! the product, and rayon gave no gain on the 2-core machines measured (module docs of `vi`).
+
+// NaN-safe `!(a <= b)` tests.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::pc::{Ctx, State, Vectors, clip, sweep, unscale};
+use super::scaling::Rows;
+use super::Status;
+
+/// Proportioning constant Γ (Dostál's usual choice).
+const GAMMA: f64 = 1.0;
+/// Full product Ŵy every this many iterations, against drift of the updated `wy`.
+const REFRESH: usize = 50;
+
+/// Free gradient φ_i: g_i on a free row, 0 at a bound.
+#[inline(always)]
+fn free(y: f64, lo: f64, hi: f64, g: f64) -> f64 {
+    if y > lo && y < hi { g } else { 0.0 }
+}
+
+/// Chopped gradient β_i: at the lower bound min(g, 0), at the upper bound max(g, 0); 0 on a
+/// row whose box is a point (lo = hi: it cannot move).
+#[inline(always)]
+fn chopped(y: f64, lo: f64, hi: f64, g: f64) -> f64 {
+    if !(lo < hi) {
+        0.0
+    } else if y <= lo {
+        g.min(0.0)
+    } else if y >= hi {
+        g.max(0.0)
+    } else {
+        0.0
+    }
+}
+
+/// The state of y: residual (math note §4.3, as PC reports it) and ||z||_inf into `st`;
+/// returns (βᵀβ, φ̃ᵀφ) for the proportioning test, or None on a NaN.
+fn measure<R: Rows>(c: &Ctx<R>, v: &Vectors, st: &mut State, abar: f64) -> Option<(f64, f64)> {
+    let (mut res, mut zn, mut bb, mut ff, mut bad) = (0.0f64, 0.0f64, 0.0, 0.0, 0.0);
+    for i in 0..v.y.len() {
+        let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
+        let g = c.qs[i] + v.wy[i];
+        let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
+        res = res.max((z - clip(z - c.gs[i] * g, v.lo[i], v.hi[i])).abs());
+        zn = zn.max(z.abs());
+        let b = chopped(y, lo, hi, g);
+        bb += b * b;
+        let f = free(y, lo, hi, g);
+        // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
+        let fr = if f > 0.0 { f.min((y - lo) / abar) } else { f.max((y - hi) / abar) };
+        ff += fr * f;
+        bad += y * 0.0 + g * 0.0;
+    }
+    st.res = res / zn.max(1.0);
+    st.znorm = zn;
+    st.fresh = true;
+    st.last_infeasible = false;
+    (bad == 0.0).then_some((bb, ff))
+}
+
+/// p = φ(y) (or β(y) for a proportioning step).
+fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, chop: bool) {
+    let Vectors { y, wy, yt, ylo, yhi, .. } = v;
+    for i in 0..y.len() {
+        let g = c.qs[i] + wy[i];
+        yt[i] = if chop { chopped(y[i], ylo[i], yhi[i], g) } else { free(y[i], ylo[i], yhi[i], g) };
+    }
+}
+
+/// wyt = Ŵp; returns (pᵀŴp, gᵀp, α_f), α_f the largest step y − αp that stays in the box.
+fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f64) {
+    st.stats.products += 1;
+    let Vectors { y, wy, yt, wyt, ylo, yhi, tmp, .. } = v;
+    c.rows.prepare(yt, wyt, tmp);
+    let (mut pap, mut gp, mut af) = (0.0, 0.0, f64::INFINITY);
+    for i in 0..y.len() {
+        let p = yt[i];
+        let ap = c.rows.row(i, yt, wyt[i]);
+        wyt[i] = ap;
+        pap += p * ap;
+        gp += (c.qs[i] + wy[i]) * p;
+        if p > 0.0 {
+            af = af.min((y[i] - ylo[i]) / p);
+        } else if p < 0.0 {
+            af = af.min((y[i] - yhi[i]) / p);
+        }
+    }
+    (pap, gp, af.max(0.0))
+}
+
+/// y −= α p, Ŵy −= α Ŵp.
+fn step(v: &mut Vectors, alpha: f64) {
+    let Vectors { y, wy, yt, wyt, ylo, yhi, .. } = v;
+    for i in 0..y.len() {
+        y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);
+        wy[i] -= alpha * wyt[i];
+    }
+}
+
+/// Expansion: y = P[y − ᾱ φ(y)], then a full product.
+fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bool {
+    for i in 0..v.y.len() {
+        let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
+        v.y[i] = clip(y - abar * free(y, lo, hi, c.qs[i] + v.wy[i]), lo, hi);
+    }
+    sweep(c, v, st)
+}
+
+/// One MPRGP run down to `inner_tol`, with the same contract as `pc::run`: the sweep over y
+/// is fresh on entry (wy = Ŵy), y lies in the box; `Ok` when the tolerance is met.
+pub(super) fn run<R: Rows>(
+    c: &Ctx<R>,
+    v: &mut Vectors,
+    st: &mut State,
+    inner_tol: f64,
+    limit: f64,
+    max_iterations: usize,
+    abar: f64,
+) -> Result<(), Status> {
+    let mut since_refresh = 0;
+    let mut cg = false; // p is a CG direction (else it is reset to φ)
+    loop {
+        let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
+        if st.znorm > limit {
+            return Err(Status::Diverged);
+        }
+        if st.res <= inner_tol {
+            return Ok(());
+        }
+        if st.inner >= max_iterations {
+            return Err(Status::IterationLimit);
+        }
+        st.inner += 1;
+        let proportional = bb <= GAMMA * GAMMA * ff;
+        if !proportional || !cg {
+            set_direction(c, v, !proportional);
+        }
+        let (pap, gp, af) = product(c, v, st);
+        if !(pap.is_finite() && gp.is_finite()) {
+            return Err(Status::NonFinite);
+        }
+        // Exact minimizer along −p (+inf on a direction of zero curvature).
+        let acg = if pap > 0.0 { gp / pap } else { f64::INFINITY };
+        if gp <= 0.0 && !(pap > 0.0) {
+            return Err(Status::Stalled);
+        }
+        if !proportional {
+            // Proportioning step, kept inside the box.
+            step(v, acg.min(af));
+            cg = false;
+        } else if acg <= af {
+            step(v, acg);
+            since_refresh += 1;
+            // Next direction p = φ − γ p, γ = φᵀŴp / pᵀŴp (conjugate to the last one).
+            let mut fap = 0.0;
+            for i in 0..v.y.len() {
+                fap += free(v.y[i], v.ylo[i], v.yhi[i], c.qs[i] + v.wy[i]) * v.wyt[i];
+            }
+            let gamma = fap / pap;
+            for i in 0..v.y.len() {
+                let f = free(v.y[i], v.ylo[i], v.yhi[i], c.qs[i] + v.wy[i]);
+                v.yt[i] = f - gamma * v.yt[i];
+            }
+            cg = true;
+        } else {
+            if af == f64::INFINITY {
+                return Err(Status::Diverged);
+            }
+            step(v, af);
+            if !expand(c, v, st, abar) {
+                return Err(Status::NonFinite);
+            }
+            since_refresh = 0;
+            cg = false;
+        }
+        if since_refresh >= REFRESH {
+            // (`sweep` also overwrites p with PC's trial point: restart the directions.)
+            if !sweep(c, v, st) {
+                return Err(Status::NonFinite);
+            }
+            (since_refresh, cg) = (0, false);
+        }
+    }
+}
+
+/// ᾱ = 1 / (an upper bound of ||Ŵ||): Gershgorin's bound of the explicit copy, else power
+/// iteration (`iterations` products from the all-ones vector) with a safety factor 2.
+pub(super) fn step_length<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, gershgorin: Option<f64>) -> f64 {
+    if let Some(g) = gershgorin.filter(|g| *g > 0.0 && g.is_finite()) {
+        return 1.0 / g;
+    }
+    let n = v.y.len();
+    let Vectors { yt, wyt, tmp, .. } = v;
+    yt.iter_mut().for_each(|x| *x = 1.0);
+    let mut lambda = 0.0;
+    for _ in 0..10 {
+        st.stats.products += 1;
+        c.rows.prepare(yt, wyt, tmp);
+        let mut norm = 0.0f64;
+        for i in 0..n {
+            wyt[i] = c.rows.row(i, yt, wyt[i]);
+            norm = norm.max(wyt[i].abs());
+        }
+        if !(norm > 0.0 && norm.is_finite()) {
+            break;
+        }
+        lambda = norm;
+        for i in 0..n {
+            yt[i] = wyt[i] / norm;
+        }
+    }
+    if lambda > 0.0 { 1.0 / (2.0 * lambda) } else { 1.0 }
+}
