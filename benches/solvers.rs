@@ -26,7 +26,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 const STEPS: usize = 20;
-const METHODS: [Method; 2] = [Method::Pc, Method::Nsgs];
+const METHODS: [Method; 3] = [Method::Pc, Method::Nsgs, Method::Mprgp];
 
 fn with(mut m: Model, method: Method, tolerance: f64) -> Model {
     m.solver.method = method;

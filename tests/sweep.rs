@@ -20,6 +20,11 @@
 //! the contact forces' change must fall as the tolerance tightens, while the iterations grow
 //! (the scaled natural residual of math note §4.3 bounds the distance to the VI's solution,
 //! so a tighter tolerance leaves a smaller force error, at the price of more PC iterations).
+//! That trade is PC's (`solver.method = "pc"` is set): MPRGP, the default's method, solves
+//! the heap's three-contact problem exactly (conjugate gradients end in at most as many steps
+//! as there are free rows, math note §4.8), so at every tolerance its forces equal the
+//! reference's to rounding: the second test asserts below 1e-9 N (forces are ~10 N, and
+//! rounding of a 6-iteration solve is ~1e-15 relative).
 
 use pbdda::cli::{SweepOptions, sweep};
 use pbdda::scene::Override;
@@ -69,7 +74,8 @@ fn heap_force_error_falls_with_tolerance_as_iterations_grow() {
     let (text, file) = scene("7_1_disk_heap.toml");
     let options = SweepOptions { reference: Some("1e-13".into()), quiet: true };
     let values = strings(&["1e-4", "1e-6", "1e-8", "1e-10"]);
-    let report = sweep(&text, &file, &set(&[("time.steps", "5")]), "solver.tolerance", &values, &options)
+    let overrides = set(&[("time.steps", "5"), ("solver.method", "pc")]);
+    let report = sweep(&text, &file, &overrides, "solver.tolerance", &values, &options)
         .unwrap_or_else(|e| panic!("{e:?}"));
     eprintln!("{}", report.table());
     for pair in report.rows.windows(2) {
@@ -82,6 +88,20 @@ fn heap_force_error_falls_with_tolerance_as_iterations_grow() {
             pair[1].run.value
         );
         assert!(pair[1].run.iterations >= pair[0].run.iterations, "a tighter tolerance costs iterations");
+    }
+}
+
+#[test]
+fn heap_forces_are_exact_at_every_tolerance_with_mprgp() {
+    let (text, file) = scene("7_1_disk_heap.toml");
+    let options = SweepOptions { reference: Some("1e-13".into()), quiet: true };
+    let values = strings(&["1e-4", "1e-6", "1e-8"]);
+    let overrides = set(&[("time.steps", "5"), ("solver.method", "mprgp")]);
+    let report = sweep(&text, &file, &overrides, "solver.tolerance", &values, &options)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    eprintln!("{}", report.table());
+    for row in &report.rows {
+        assert!(row.final_force_error < 1e-9, "{} at {}", row.final_force_error, row.run.value);
     }
 }
 

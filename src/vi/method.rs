@@ -1,16 +1,12 @@
 //! The choice of VI method (`[solver] method` in the scene).
 
-/// Rows from which [`Method::Auto`] runs NSGS.
-pub const AUTO_NSGS_ROWS: usize = 500;
-
 /// Which solver [`super::Solver::solve`] runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Method {
-    /// PC below [`AUTO_NSGS_ROWS`] rows, NSGS with its stall guard from there on: NSGS was the
-    /// faster on the measured piles (`benches/solvers.rs`), while on small hyperstatic scenes
-    /// the two may pick different (equally valid) force distributions and the suite's tests
-    /// of individual forces there were written against PC's (e.g. the §7.2 staircase's
-    /// per-contact shears); a small problem costs little with either.
+    /// MPRGP with its guard: the fastest method that met the tolerance on the whole suite
+    /// and on the bench piles (notes of issue 10; `benches/solvers.rs`). On small hyperstatic
+    /// scenes it picks the same forces as PC (the §7.2 staircase's per-contact shears), since
+    /// each pass solves the same box QP as PC's from the same start.
     #[default]
     Auto,
     /// Projection-contraction with the outer compatibility loop (math note §4.2–4.3): the
@@ -29,7 +25,7 @@ impl Method {
     pub const ALL: [(&'static str, Method); 4] =
         [("auto", Method::Auto), ("pc", Method::Pc), ("nsgs", Method::Nsgs), ("mprgp", Method::Mprgp)];
 
-    /// The method of a scene name (`auto`, `pc`, `nsgs`).
+    /// The method of a scene name (`auto`, `pc`, `nsgs`, `mprgp`).
     pub fn parse(name: &str) -> Option<Method> {
         Self::ALL.iter().find(|(s, _)| *s == name).map(|(_, m)| *m)
     }
@@ -39,11 +35,10 @@ impl Method {
         Self::ALL.iter().find(|(_, m)| *m == self).map_or("auto", |(s, _)| s)
     }
 
-    /// The method `Auto` stands for on a problem of `rows` rows.
-    pub fn resolve(self, rows: usize) -> Method {
+    /// The method `Auto` stands for.
+    pub fn resolve(self) -> Method {
         match self {
-            Method::Auto if rows >= AUTO_NSGS_ROWS => Method::Nsgs,
-            Method::Auto => Method::Pc,
+            Method::Auto => Method::Mprgp,
             m => m,
         }
     }

@@ -54,7 +54,9 @@
 //! or nonsmooth block Gauss-Seidel (`nsgs.rs`, `local.rs`; math note §4.7), which solves each
 //! block exactly in closed form ([`BoundRule::block_law`]) with the bounds taken at the
 //! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
-//! when it stalls. [`Method::Auto`] runs PC on small problems and NSGS on large ones.
+//! when it stalls; or the outer loop of PC with MPRGP (`mprgp.rs`, math note §4.8) as the
+//! inner solver of each pass, handed over to PC by the same kind of guard when it fails.
+//! [`Method::Auto`] runs MPRGP.
 //!
 //! # Performance
 //!
@@ -109,8 +111,10 @@ mod pc;
 mod scaling;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_mprgp;
 
-pub use method::{AUTO_NSGS_ROWS, Method};
+pub use method::Method;
 pub use nsgs::STALL_SWEEPS;
 pub use operator::Operator;
 
@@ -268,7 +272,7 @@ pub struct Stats {
     pub products: usize,
     /// Rejected trial steps (beta shrinks).
     pub shrinks: usize,
-    /// NSGS runs handed over to PC by the stall guard (0 or 1).
+    /// NSGS or MPRGP runs handed over to PC by their guard (0 or 1).
     pub fallbacks: usize,
 }
 
@@ -295,6 +299,8 @@ pub struct Solver {
     pub method: Method,
     stats: Stats,
     nsgs: nsgs::Work,
+    /// The caller's warm start, kept for the MPRGP guard.
+    warm: Vec<f64>,
     scaling: scaling::Scaling,
     vectors: pc::Vectors,
 }
@@ -314,6 +320,7 @@ impl Solver {
             method: Method::Pc,
             stats: Stats::default(),
             nsgs: nsgs::Work::default(),
+            warm: Vec::new(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
         }
@@ -363,10 +370,21 @@ impl Solver {
             return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         }
         let nsgs_ok = csr.as_ref().is_some_and(|w| nsgs::applicable(w, p.blocks));
-        if self.method.resolve(n) != Method::Nsgs || !nsgs_ok {
-            return self.solve_pc(p, rule, z, opts);
+        match (self.method.resolve(), csr) {
+            (Method::Nsgs, Some(w)) if nsgs_ok => self.solve_nsgs(w, p, rule, z, opts),
+            (Method::Mprgp, _) => self.solve_mprgp(p, rule, z, opts),
+            _ => self.solve_pc(p, rule, z, opts, false),
         }
-        let Some(w) = csr else { return self.solve_pc(p, rule, z, opts) };
+    }
+
+    fn solve_nsgs(
+        &mut self,
+        w: sprs::CsMatView<f64>,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+    ) -> Report {
         let mut stats = Stats::default();
         match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
             nsgs::End::Converged { sweeps, residual } => {
@@ -383,6 +401,33 @@ impl Solver {
         }
     }
 
+    /// MPRGP with half of the iteration budget; if it stops short of the tolerance (iteration
+    /// or pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
+    /// would report the same), PC from the caller's warm start with the rest (math note §4.8).
+    fn solve_mprgp(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+        self.warm.clear();
+        self.warm.extend_from_slice(z);
+        let first = Options { max_iterations: opts.max_iterations / 2, ..*opts };
+        let r = self.solve_pc(p, rule, z, &first, true);
+        let hopeless =
+            matches!(self.stats.status, Status::Diverged | Status::NonFinite | Status::InvalidInput);
+        if r.converged || hopeless {
+            return r;
+        }
+        let products = self.stats.products;
+        z.copy_from_slice(&self.warm);
+        let rest = Options {
+            max_iterations: opts.max_iterations - r.inner_iterations.min(first.max_iterations),
+            ..*opts
+        };
+        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
+        r2.inner_iterations += r.inner_iterations;
+        r2.outer_iterations += r.outer_iterations;
+        self.stats.products += products;
+        self.stats.fallbacks = 1;
+        r2
+    }
+
     /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
     /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
     /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
@@ -397,22 +442,30 @@ impl Solver {
     ) -> Report {
         let left = opts.max_iterations.saturating_sub(sweeps);
         let first = Options { max_iterations: left / 2, ..*opts };
-        let r = self.solve_pc(p, rule, z, &first);
+        let r = self.solve_pc(p, rule, z, &first, false);
         if r.converged {
             return r;
         }
         let products = self.stats.products;
         z.copy_from_slice(self.nsgs.warm_start());
         let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
-        let mut r2 = self.solve_pc(p, rule, z, &rest);
+        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
         r2.inner_iterations += r.inner_iterations;
         r2.outer_iterations += r.outer_iterations;
         self.stats.products += products;
         r2
     }
 
-    /// The PC path (math note §4.2–4.3).
-    fn solve_pc(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
+    /// The PC path (math note §4.2–4.3), with MPRGP as the inner solver of the passes when
+    /// `mprgp` (§4.8).
+    fn solve_pc(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        mprgp: bool,
+    ) -> Report {
         let n = p.q.len();
         let csr = p.w.as_csr();
         let explicit = csr.is_some();
@@ -436,7 +489,7 @@ impl Solver {
         };
         let mut st = pc::State::new(beta0);
         let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
-        let (correction, mprgp) = (self.correction, self.method.resolve(n) == Method::Mprgp);
+        let correction = self.correction;
         let v = &mut self.vectors;
         let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };

@@ -20,9 +20,9 @@
 // NaN-safe `!(a <= b)` tests.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::Status;
 use super::pc::{Ctx, State, Vectors, clip, sweep, unscale};
 use super::scaling::Rows;
-use super::Status;
 
 /// Proportioning constant Γ (Dostál's usual choice).
 const GAMMA: f64 = 1.0;
@@ -161,6 +161,10 @@ pub(super) fn run<R: Rows>(
         if gp <= 0.0 && !(pap > 0.0) {
             return Err(Status::Stalled);
         }
+        if acg.min(af) == f64::INFINITY {
+            // A descent direction of zero curvature that the box does not stop: a ray.
+            return Err(Status::Diverged);
+        }
         if !proportional {
             // Proportioning step, kept inside the box.
             step(v, acg.min(af));
@@ -180,9 +184,6 @@ pub(super) fn run<R: Rows>(
             }
             cg = true;
         } else {
-            if af == f64::INFINITY {
-                return Err(Status::Diverged);
-            }
             step(v, af);
             if !expand(c, v, st, abar) {
                 return Err(Status::NonFinite);
@@ -202,7 +203,12 @@ pub(super) fn run<R: Rows>(
 
 /// ᾱ = 1 / (an upper bound of ||Ŵ||): Gershgorin's bound of the explicit copy, else power
 /// iteration (`iterations` products from the all-ones vector) with a safety factor 2.
-pub(super) fn step_length<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, gershgorin: Option<f64>) -> f64 {
+pub(super) fn step_length<R: Rows>(
+    c: &Ctx<R>,
+    v: &mut Vectors,
+    st: &mut State,
+    gershgorin: Option<f64>,
+) -> f64 {
     if let Some(g) = gershgorin.filter(|g| *g > 0.0 && g.is_finite()) {
         return 1.0 / g;
     }

@@ -146,7 +146,10 @@ pub(super) struct Csr<'a> {
 impl Csr<'_> {
     /// Gershgorin's bound of ||Ŵ||: max_i Σ_j |Ŵ_ij|.
     pub fn abs_row_sum_max(&self) -> f64 {
-        self.rowptr.windows(2).map(|r| self.vals[r[0]..r[1]].iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max)
+        self.rowptr
+            .windows(2)
+            .map(|r| self.vals[r[0]..r[1]].iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
     }
 }
 

@@ -4,15 +4,15 @@
 use super::*;
 use sprs::{CsMat, TriMat};
 
-const INF: f64 = f64::INFINITY;
+pub(super) const INF: f64 = f64::INFINITY;
 
 /// One block per row.
-fn singles(n: usize) -> Vec<usize> {
+pub(super) fn singles(n: usize) -> Vec<usize> {
     (0..=n).collect()
 }
 
 /// Dense row-major symmetric matrix -> CSR (both triangles, zeros dropped).
-fn csr(n: usize, dense: &[f64]) -> CsMat<f64> {
+pub(super) fn csr(n: usize, dense: &[f64]) -> CsMat<f64> {
     let mut t = TriMat::new((n, n));
     for i in 0..n {
         for j in 0..n {
@@ -24,7 +24,7 @@ fn csr(n: usize, dense: &[f64]) -> CsMat<f64> {
     t.to_csr()
 }
 
-fn opts(tolerance: f64, jacobi: bool) -> Options {
+pub(super) fn opts(tolerance: f64, jacobi: bool) -> Options {
     Options { tolerance, jacobi, ..Options::default() }
 }
 
@@ -38,7 +38,7 @@ fn fixed(w: &CsMat<f64>, q: &[f64], lo: &[f64], hi: &[f64], o: &Options) -> (Rep
 }
 
 /// Coulomb rule for one (normal, tangent) pair: tau = mu max(z_n, 0) (math note §4.1).
-struct Friction(f64);
+pub(super) struct Friction(pub(super) f64);
 impl BoundRule for Friction {
     fn block_bounds(&self, _k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
         let tau = self.0 * z[0].max(0.0);
@@ -417,7 +417,7 @@ fn bound_rule_sees_blocks() {
 }
 
 /// W behind the trait without its CSR storage (the matrix-free path).
-struct MatrixFree(CsMat<f64>);
+pub(super) struct MatrixFree(pub(super) CsMat<f64>);
 impl Operator for MatrixFree {
     fn dim(&self) -> usize {
         self.0.dim()

@@ -1,0 +1,134 @@
+//! MPRGP (math note §4.8) on closed-form cases, through both W paths (explicit CSR with
+//! Gershgorin's step length, matrix-free with power iteration). Expected values are derived
+//! in the comments of `tests.rs` where the same cases test PC, or below.
+
+use super::tests::{Friction, INF, MatrixFree, csr, opts, singles};
+use super::*;
+
+fn mprgp() -> Solver {
+    Solver::new().with_method(Method::Mprgp)
+}
+
+/// `two_by_two_active_set` (z = (0, 3/2) from an infeasible warm start) and
+/// `coulomb_stick_and_slide` (stick (38/35, −12/35), slide (8/9, 4/9)), to the 1e-10 and
+/// 1e-9 of those tests, with and without Jacobi scaling and on both W paths; solved by MPRGP
+/// itself (no hand-over to PC).
+#[test]
+fn mprgp_closed_forms() {
+    for jacobi in [true, false] {
+        for free in [false, true] {
+            let m = csr(2, &[2.0, 1.0, 1.0, 2.0]);
+            let (explicit, wrapped) = (m.clone(), MatrixFree(m));
+            let w: &dyn Operator = if free { &wrapped } else { &explicit };
+            let mut ws = mprgp();
+            let mut z = vec![0.7, -3.0];
+            let rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+            let p = Problem { w, q: &[1.0, -3.0], blocks: &singles(2) };
+            assert!(ws.solve(&p, &rule, &mut z, &opts(1e-12, jacobi)).converged);
+            assert!(z[0] >= 0.0 && z[0] < 1e-10 && (z[1] - 1.5).abs() < 1e-10, "{z:?}");
+            assert_eq!(ws.stats().fallbacks, 0);
+
+            let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
+            let (explicit, wrapped) = (m.clone(), MatrixFree(m));
+            let w: &dyn Operator = if free { &wrapped } else { &explicit };
+            for (q, want) in
+                [([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]), ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0])]
+            {
+                let mut z = vec![0.0, 0.0];
+                let rep = ws.solve(
+                    &Problem { w, q: &q, blocks: &[0, 2] },
+                    &Friction(0.5),
+                    &mut z,
+                    &opts(1e-12, jacobi),
+                );
+                assert!(rep.converged && ws.stats().fallbacks == 0, "{q:?}: {rep:?}");
+                assert!(
+                    (z[0] - want[0]).abs() < 1e-9 && (z[1] - want[1]).abs() < 1e-9,
+                    "{q:?}: {z:?} vs {want:?}"
+                );
+            }
+        }
+    }
+}
+
+/// The 1-D Laplacian W = tridiag(−1, 2, −1) of order 20 with q = −1 and wide bounds
+/// [−1e3, 1e3]: W z = 1 with z_0 = z_21 = 0 gives z_i = i (21 − i) / 2 (at most 110, inside
+/// the box). Every row stays free, so MPRGP is conjugate gradients, which ends in as many
+/// steps as the right-hand side excites distinct eigenvalues: q is symmetric under
+/// i -> 21 − i, which excites only the 10 symmetric eigenvectors, so 10 steps in exact
+/// arithmetic; the assertion allows one more for rounding (the residual is asked to 1e-12).
+/// PC on the same problem needs over a thousand iterations (cond W = 178), asserted to show
+/// what the conjugate directions buy. z to 1e-8 relative (residual 1e-12 times cond W).
+#[test]
+fn mprgp_is_conjugate_gradients_on_free_rows() {
+    let n = 20;
+    let mut dense = vec![0.0; n * n];
+    for i in 0..n {
+        dense[i * n + i] = 2.0;
+        if i + 1 < n {
+            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
+        }
+    }
+    let w = csr(n, &dense);
+    let rule = FixedBounds { lo: vec![-1e3; n], hi: vec![1e3; n] };
+    let p = Problem { w: &w, q: &vec![-1.0; n], blocks: &singles(n) };
+    let mut z = vec![0.0; n];
+    let rep = mprgp().solve(&p, &rule, &mut z, &opts(1e-12, true));
+    assert!(rep.converged && rep.inner_iterations <= 11, "{rep:?}");
+    for (i, zi) in z.iter().enumerate() {
+        let want = ((i + 1) * (n - i)) as f64 / 2.0;
+        assert!((zi - want).abs() < 1e-8 * want, "z[{i}] = {zi} vs {want}");
+    }
+    let mut z = vec![0.0; n];
+    let pc = Solver::new().solve(&p, &rule, &mut z, &opts(1e-12, true));
+    assert!(pc.converged && pc.inner_iterations > 1000, "{pc:?}");
+}
+
+/// Unbounded rays and NaN are reported as by PC (`unbounded_rays_are_reported`,
+/// `nan_input_is_reported`): Diverged or NonFinite, warm start restored, and no hand-over to
+/// PC (which would report the same).
+#[test]
+fn mprgp_reports_rays_and_nan() {
+    let cases = [
+        ([1.0, -1.0, -1.0, 1.0], [-1.0, -1.0], [0.0, 0.0], Status::Diverged),
+        ([1.0, 1.0, 1.0, 1.0], [1.0, -1.0], [-INF, -INF], Status::Diverged),
+        ([2.0, 1.0, 1.0, 2.0], [f64::NAN, 1.0], [0.0, 0.0], Status::NonFinite),
+    ];
+    for (dense, q, lo, status) in cases {
+        let w = csr(2, &dense);
+        let mut ws = mprgp();
+        let mut z = vec![0.0; 2];
+        let rule = FixedBounds { lo: lo.to_vec(), hi: vec![INF, INF] };
+        let rep =
+            ws.solve(&Problem { w: &w, q: &q, blocks: &singles(2) }, &rule, &mut z, &Options::default());
+        assert!(!rep.converged && ws.stats().status == status, "{rep:?} {:?}", ws.stats());
+        assert_eq!((z, ws.stats().fallbacks), (vec![0.0, 0.0], 0));
+    }
+}
+
+/// The guard's budget (math note §4.8): with max_iterations = 3 on the free 2×2 of
+/// `iteration_limit_is_reported` (W = [[1, 0.999], [0.999, 1]]) with q = (1, 0), which is no
+/// eigenvector of W (so CG needs its 2 steps), and the box ±1e4 around the solution
+/// −W⁻¹q = (−1, 0.999) / (1 − 0.999²) ≈ (−500.25, 499.75): MPRGP gets 3 / 2 = 1 iteration, PC the other 2 from the warm
+/// start; both fall short of 1e-12, so exactly 3 iterations, one hand-over, IterationLimit,
+/// a finite z in the box. With the full budget MPRGP alone takes exactly CG's 2 steps.
+#[test]
+fn mprgp_guard_splits_the_budget() {
+    let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
+    let mut ws = mprgp();
+    let mut z = vec![0.0; 2];
+    let rule = FixedBounds { lo: vec![-1e4; 2], hi: vec![1e4; 2] };
+    let o = Options { max_iterations: 3, ..opts(1e-12, true) };
+    let rep = ws.solve(&Problem { w: &w, q: &[1.0, 0.0], blocks: &singles(2) }, &rule, &mut z, &o);
+    let st = ws.stats();
+    assert!(!rep.converged && st.status == Status::IterationLimit && st.fallbacks == 1, "{rep:?} {st:?}");
+    assert_eq!(rep.inner_iterations, 3);
+    assert!(z.iter().all(|v| v.is_finite() && v.abs() <= 1e4));
+    let mut z = vec![0.0; 2];
+    let rep =
+        ws.solve(&Problem { w: &w, q: &[1.0, 0.0], blocks: &singles(2) }, &rule, &mut z, &opts(1e-12, true));
+    assert!(rep.converged && rep.inner_iterations == 2 && ws.stats().fallbacks == 0, "{rep:?}");
+    let det = 1.0 - 0.999 * 0.999;
+    // 1e-8 relative: residual 1e-12 times cond W = 1999
+    assert!((z[0] + 1.0 / det).abs() < 5e-6 && (z[1] - 0.999 / det).abs() < 5e-6, "{z:?}");
+}
