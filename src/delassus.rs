@@ -22,13 +22,32 @@ use crate::jacobian::{Jacobian, Segment};
 use crate::vi::Operator;
 use sprs::CsMat;
 
-/// Where each cluster's rows sit: for cluster c, the distinct rows of B touching it, with the
-/// indices of their segments on c, and their columns K̃_c⁻¹ B_sᵀ|c (cluster-local, row-major).
-#[derive(Debug, Default)]
-struct ClusterRows {
-    rows: Vec<usize>,
-    segments: Vec<Vec<usize>>,
+/// Work storage of the explicit assembly, kept across steps by the world's pipeline so that a
+/// step allocates only the CSR arrays of its W.
+///
+/// A *place* is one (cluster, row) pair of B: the row's segments on that cluster and its
+/// column K̃_c⁻¹ B_rᵀ|c over the cluster's DOF range.
+#[derive(Debug, Clone, Default)]
+pub struct Scratch {
+    /// Explicit segments' indices, grouped by cluster (ascending) and by row within a cluster,
+    /// in push order within a row (which fixes every sum's order).
+    order: Vec<usize>,
+    /// Per cluster, its range of `order` (`clusters + 1` offsets); reused as a counter.
+    cluster_start: Vec<usize>,
+    /// Per place: its row, first index into `order` (`places + 1` entries), cluster, and first
+    /// index into `columns`.
+    place_row: Vec<usize>,
+    place_seg: Vec<usize>,
+    place_cluster: Vec<usize>,
+    place_col: Vec<usize>,
+    /// Per cluster, its range of places (`clusters + 1` offsets).
+    cluster_place: Vec<usize>,
     columns: Vec<f64>,
+    /// Per row of W, its places (CSR: `row_place_start` has `rows + 1` offsets).
+    row_place_start: Vec<usize>,
+    row_places: Vec<usize>,
+    /// One row of W before sorting and merging: (column, push index, value).
+    entries: Vec<(usize, usize, f64)>,
 }
 
 /// Above this many numbers (`rows_c² + rows_c · n_c`) a cluster's part of W is kept in operator
@@ -37,7 +56,7 @@ pub const EXPLICIT_LIMIT: usize = 20_000_000;
 
 /// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit.
 pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> {
-    assemble_with(jac, flex, map, usize::MAX).explicit
+    assemble_with(jac, flex, map, usize::MAX, &mut Scratch::default()).explicit
 }
 
 /// W of one step as the VI sees it: the explicit CSR part, plus the clusters kept in operator form.
@@ -57,7 +76,18 @@ struct FactoredCluster {
 impl ContactOperator {
     /// W with every cluster explicit below `limit` numbers and in operator form above it.
     pub fn new(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
-        assemble_with(jac, flex, map, limit)
+        assemble_with(jac, flex, map, limit, &mut Scratch::default())
+    }
+
+    /// [`Self::new`] with the work storage of earlier steps.
+    pub fn with_scratch(
+        jac: &Jacobian,
+        flex: &Flexibility,
+        map: &DofMap,
+        limit: usize,
+        scratch: &mut Scratch,
+    ) -> ContactOperator {
+        assemble_with(jac, flex, map, limit, scratch)
     }
 
     /// Whether some cluster is in operator form.
@@ -96,7 +126,13 @@ impl Operator for ContactOperator {
     }
 }
 
-fn assemble_with(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
+fn assemble_with(
+    jac: &Jacobian,
+    flex: &Flexibility,
+    map: &DofMap,
+    limit: usize,
+    scratch: &mut Scratch,
+) -> ContactOperator {
     let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
         .iter()
         .enumerate()
@@ -107,40 +143,9 @@ fn assemble_with(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize)
         .collect();
     let mut diagonal = vec![0.0; jac.rows];
     let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
-    let (per_cluster, at) = columns(jac, flex, map, &factored_clusters);
-    let mut indptr = Vec::with_capacity(jac.rows + 1);
-    let (mut indices, mut data) = (Vec::new(), Vec::new());
-    indptr.push(0);
-    let mut row: Vec<(usize, f64)> = Vec::new();
-    for places in &at {
-        row.clear();
-        for &(c, p) in places {
-            let cr = &per_cluster[c];
-            let range = map.cluster_range(c);
-            let n = range.len();
-            for &si in &cr.segments[p] {
-                let seg = &jac.segments[si];
-                for (q, &s) in cr.rows.iter().enumerate() {
-                    let col = &cr.columns[q * n..(q + 1) * n];
-                    row.push((s, seg.vals.dot(&local(seg, col, range.start))));
-                }
-            }
-        }
-        row.sort_unstable_by_key(|e| e.0);
-        let first = indices.len();
-        for &(s, v) in &row {
-            if indices.len() > first && indices.last() == Some(&s) {
-                if let Some(last) = data.last_mut() {
-                    *last += v;
-                }
-            } else {
-                indices.push(s);
-                data.push(v);
-            }
-        }
-        indptr.push(indices.len());
-    }
-    let explicit = CsMat::new((jac.rows, jac.rows), indptr, indices, data);
+    scratch.places(jac, map, &factored_clusters);
+    scratch.columns(jac, flex, map);
+    let explicit = scratch.csr(jac, map);
     for (r, d) in diagonal.iter_mut().enumerate() {
         *d += explicit.get(r, r).copied().unwrap_or(0.0);
     }
@@ -204,54 +209,71 @@ fn factored_parts(
     parts
 }
 
-/// The segment's range of a cluster-local vector, padded.
-fn local(seg: &Segment, col: &[f64], base: usize) -> crate::body::Dofs {
-    let mut d = crate::body::Dofs::zeros();
-    let start = seg.start - base;
-    d.as_mut_slice()[..seg.len].copy_from_slice(&col[start..start + seg.len]);
-    d
-}
-
-/// Groups the segments by cluster and computes each row's column K̃_c⁻¹ B_sᵀ|c. Also
-/// returns, for every row, the (cluster, position) pairs it appears at, clusters ascending.
-fn columns(
-    jac: &Jacobian,
-    flex: &Flexibility,
-    map: &DofMap,
-    factored: &[bool],
-) -> (Vec<ClusterRows>, Vec<Vec<(usize, usize)>>) {
-    let mut per_cluster: Vec<ClusterRows> = (0..map.clusters()).map(|_| ClusterRows::default()).collect();
-    let mut at: Vec<Vec<(usize, usize)>> = vec![Vec::new(); jac.rows];
-    for (si, seg) in jac.segments.iter().enumerate().filter(|(_, s)| !factored[s.cluster]) {
-        let cr = &mut per_cluster[seg.cluster];
-        match at[seg.row].iter().find(|(c, _)| *c == seg.cluster) {
-            Some(&(_, p)) => cr.segments[p].push(si),
-            None => {
-                at[seg.row].push((seg.cluster, cr.rows.len()));
-                cr.rows.push(seg.row);
-                cr.segments.push(vec![si]);
+impl Scratch {
+    /// Sorts the explicit segments by cluster and row (counting sort, then a stable sort of
+    /// each cluster's few segments) and lists the places.
+    fn places(&mut self, jac: &Jacobian, map: &DofMap, factored: &[bool]) {
+        let clusters = map.clusters();
+        let start = &mut self.cluster_start;
+        start.clear();
+        start.resize(clusters + 1, 0);
+        for s in jac.segments.iter().filter(|s| !factored[s.cluster]) {
+            start[s.cluster + 1] += 1;
+        }
+        for c in 0..clusters {
+            start[c + 1] += start[c];
+        }
+        self.order.clear();
+        self.order.resize(start[clusters], 0);
+        let mut next = start[..clusters].to_vec();
+        for (si, s) in jac.segments.iter().enumerate().filter(|(_, s)| !factored[s.cluster]) {
+            self.order[next[s.cluster]] = si;
+            next[s.cluster] += 1;
+        }
+        self.place_row.clear();
+        self.place_seg.clear();
+        self.place_cluster.clear();
+        self.cluster_place.clear();
+        for c in 0..clusters {
+            let part = &mut self.order[start[c]..start[c + 1]];
+            part.sort_by_key(|&si| jac.segments[si].row);
+            self.cluster_place.push(self.place_row.len());
+            for (k, &si) in part.iter().enumerate() {
+                let row = jac.segments[si].row;
+                if k == 0 || self.place_row.last() != Some(&row) {
+                    self.place_row.push(row);
+                    self.place_seg.push(start[c] + k);
+                    self.place_cluster.push(c);
+                }
             }
         }
+        self.cluster_place.push(self.place_row.len());
+        self.place_seg.push(self.order.len());
     }
-    for places in &mut at {
-        places.sort_unstable();
-    }
-    for (c, cr) in per_cluster.iter_mut().enumerate() {
-        let range = map.cluster_range(c);
-        let n = range.len();
-        cr.columns = vec![0.0; cr.rows.len() * n];
-        for (p, segs) in cr.segments.iter().enumerate() {
-            let col = &mut cr.columns[p * n..(p + 1) * n];
+
+    /// Each place's column K̃_c⁻¹ B_rᵀ|c over the cluster's DOF range: from the cached unit
+    /// columns of the DOFs touched for a sparse cluster (math note §9.3), else by one solve.
+    fn columns(&mut self, jac: &Jacobian, flex: &Flexibility, map: &DofMap) {
+        self.place_col.clear();
+        let mut total = 0;
+        for &c in &self.place_cluster {
+            self.place_col.push(total);
+            total += map.cluster_range(c).len();
+        }
+        self.columns.clear();
+        self.columns.resize(total, 0.0);
+        for (p, &c) in self.place_cluster.iter().enumerate() {
+            let range = map.cluster_range(c);
+            let col = &mut self.columns[self.place_col[p]..self.place_col[p] + range.len()];
+            let segments =
+                self.order[self.place_seg[p]..self.place_seg[p + 1]].iter().map(|&si| &jac.segments[si]);
             if flex.is_sparse(c) {
-                // from the cached unit columns of the DOFs touched (math note §9.3)
-                for &si in segs {
-                    let s = &jac.segments[si];
+                for s in segments {
                     flex.add_columns(c, s.start - range.start, &s.vals.as_slice()[..s.len], col);
                 }
                 continue;
             }
-            for &si in segs {
-                let s = &jac.segments[si];
+            for s in segments {
                 for i in 0..s.len {
                     col[s.start - range.start + i] += s.vals[i];
                 }
@@ -259,5 +281,60 @@ fn columns(
             flex.solve_cluster(c, col);
         }
     }
-    (per_cluster, at)
+
+    /// W's explicit part: row r gets, for every place (c, r), B_r|c · K̃_c⁻¹ B_sᵀ|c for every
+    /// row s touching c; entries of a column reached through two clusters are summed, in
+    /// cluster order.
+    fn csr(&mut self, jac: &Jacobian, map: &DofMap) -> CsMat<f64> {
+        let starts = &mut self.row_place_start;
+        starts.clear();
+        starts.resize(jac.rows + 1, 0);
+        for &r in &self.place_row {
+            starts[r + 1] += 1;
+        }
+        for r in 0..jac.rows {
+            starts[r + 1] += starts[r];
+        }
+        self.row_places.clear();
+        self.row_places.resize(self.place_row.len(), 0);
+        let mut next = starts[..jac.rows].to_vec();
+        for (p, &r) in self.place_row.iter().enumerate() {
+            self.row_places[next[r]] = p; // places ascend by cluster
+            next[r] += 1;
+        }
+        let mut indptr = Vec::with_capacity(jac.rows + 1);
+        let (mut indices, mut data) = (Vec::new(), Vec::new());
+        indptr.push(0);
+        for r in 0..jac.rows {
+            self.entries.clear();
+            for &p in &self.row_places[starts[r]..starts[r + 1]] {
+                let c = self.place_cluster[p];
+                let base = map.cluster_range(c).start;
+                for q in self.cluster_place[c]..self.cluster_place[c + 1] {
+                    let col = &self.columns[self.place_col[q]..];
+                    let mut v = 0.0;
+                    for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
+                        let s = &jac.segments[si];
+                        let at = s.start - base;
+                        v += (0..s.len).map(|i| s.vals[i] * col[at + i]).sum::<f64>();
+                    }
+                    self.entries.push((self.place_row[q], self.entries.len(), v));
+                }
+            }
+            // by column, then in push (cluster) order: sums in a fixed order, no allocation
+            self.entries.sort_unstable_by_key(|e| (e.0, e.1));
+            let first = indices.len();
+            for &(s, _, v) in &self.entries {
+                match data.last_mut() {
+                    Some(last) if indices.len() > first && indices.last() == Some(&s) => *last += v,
+                    _ => {
+                        indices.push(s);
+                        data.push(v);
+                    }
+                }
+            }
+            indptr.push(indices.len());
+        }
+        CsMat::new((jac.rows, jac.rows), indptr, indices, data)
+    }
 }

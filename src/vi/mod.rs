@@ -401,26 +401,22 @@ impl Solver {
         }
     }
 
-    /// MPRGP with half of the iteration budget; if it stops short of the tolerance (iteration
-    /// or pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
-    /// would report the same), PC from the caller's warm start with the rest (math note §4.8).
+    /// MPRGP with the whole iteration budget; if it stops short of the tolerance before using it
+    /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
+    /// would report the same), PC from the caller's warm start with what is left (math note §4.8).
     fn solve_mprgp(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
         self.warm.clear();
         self.warm.extend_from_slice(z);
-        let first = Options { max_iterations: opts.max_iterations / 2, ..*opts };
-        let r = self.solve_pc(p, rule, z, &first, true);
+        let r = self.solve_pc(p, rule, z, opts, true);
+        let left = opts.max_iterations.saturating_sub(r.inner_iterations);
         let hopeless =
             matches!(self.stats.status, Status::Diverged | Status::NonFinite | Status::InvalidInput);
-        if r.converged || hopeless {
+        if r.converged || hopeless || left == 0 {
             return r;
         }
         let products = self.stats.products;
         z.copy_from_slice(&self.warm);
-        let rest = Options {
-            max_iterations: opts.max_iterations - r.inner_iterations.min(first.max_iterations),
-            ..*opts
-        };
-        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
+        let mut r2 = self.solve_pc(p, rule, z, &Options { max_iterations: left, ..*opts }, false);
         r2.inner_iterations += r.inner_iterations;
         r2.outer_iterations += r.outer_iterations;
         self.stats.products += products;

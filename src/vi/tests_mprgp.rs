@@ -106,29 +106,37 @@ fn mprgp_reports_rays_and_nan() {
     }
 }
 
-/// The guard's budget (math note §4.8): with max_iterations = 3 on the free 2×2 of
-/// `iteration_limit_is_reported` (W = [[1, 0.999], [0.999, 1]]) with q = (1, 0), which is no
-/// eigenvector of W (so CG needs its 2 steps), and the box ±1e4 around the solution
-/// −W⁻¹q = (−1, 0.999) / (1 − 0.999²) ≈ (−500.25, 499.75): MPRGP gets 3 / 2 = 1 iteration, PC the other 2 from the warm
-/// start; both fall short of 1e-12, so exactly 3 iterations, one hand-over, IterationLimit,
-/// a finite z in the box. With the full budget MPRGP alone takes exactly CG's 2 steps.
+/// The guard (math note §4.8). (a) Budget: on the free 2×2 of `iteration_limit_is_reported`
+/// (W = [[1, 0.999], [0.999, 1]]) with q = (1, 0), no eigenvector of W, so CG needs its 2
+/// steps, and the box ±1e4 around −W⁻¹q = (−1, 0.999) / (1 − 0.999²) ≈ (−500.25, 499.75):
+/// with max_iterations = 1 MPRGP uses the whole budget, so there is nothing left for PC:
+/// IterationLimit after exactly 1 iteration, no hand-over; with the full budget exactly CG's 2
+/// steps solve it (z to 5e-6: residual 1e-12 times cond W = 1999 times |z| = 500).
+/// (b) Pass limit: the sliding case of `coulomb_stick_and_slide` needs at least 3 passes; with
+/// max_outer = 1 MPRGP stops after its one pass with budget left, PC takes over from the warm
+/// start and stops after its one pass too: OuterLimit, one hand-over, 2 passes in all.
 #[test]
-fn mprgp_guard_splits_the_budget() {
+fn mprgp_guard() {
     let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
     let mut ws = mprgp();
-    let mut z = vec![0.0; 2];
     let rule = FixedBounds { lo: vec![-1e4; 2], hi: vec![1e4; 2] };
-    let o = Options { max_iterations: 3, ..opts(1e-12, true) };
-    let rep = ws.solve(&Problem { w: &w, q: &[1.0, 0.0], blocks: &singles(2) }, &rule, &mut z, &o);
-    let st = ws.stats();
-    assert!(!rep.converged && st.status == Status::IterationLimit && st.fallbacks == 1, "{rep:?} {st:?}");
-    assert_eq!(rep.inner_iterations, 3);
-    assert!(z.iter().all(|v| v.is_finite() && v.abs() <= 1e4));
+    let p = Problem { w: &w, q: &[1.0, 0.0], blocks: &singles(2) };
     let mut z = vec![0.0; 2];
-    let rep =
-        ws.solve(&Problem { w: &w, q: &[1.0, 0.0], blocks: &singles(2) }, &rule, &mut z, &opts(1e-12, true));
+    let rep = ws.solve(&p, &rule, &mut z, &Options { max_iterations: 1, ..opts(1e-12, true) });
+    let st = ws.stats();
+    assert!(!rep.converged && st.status == Status::IterationLimit && st.fallbacks == 0, "{rep:?} {st:?}");
+    assert_eq!(rep.inner_iterations, 1);
+    let mut z = vec![0.0; 2];
+    let rep = ws.solve(&p, &rule, &mut z, &opts(1e-12, true));
     assert!(rep.converged && rep.inner_iterations == 2 && ws.stats().fallbacks == 0, "{rep:?}");
     let det = 1.0 - 0.999 * 0.999;
-    // 1e-8 relative: residual 1e-12 times cond W = 1999
     assert!((z[0] + 1.0 / det).abs() < 5e-6 && (z[1] - 0.999 / det).abs() < 5e-6, "{z:?}");
+
+    let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
+    let mut z = vec![0.0; 2];
+    let o = Options { max_outer: 1, ..opts(1e-12, true) };
+    let rep = ws.solve(&Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] }, &Friction(0.5), &mut z, &o);
+    let st = ws.stats();
+    assert!(!rep.converged && st.status == Status::OuterLimit && st.fallbacks == 1, "{rep:?} {st:?}");
+    assert_eq!(rep.outer_iterations, 2);
 }

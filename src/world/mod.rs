@@ -15,7 +15,8 @@
 //! ```
 //!
 //! [`World`] holds the state a checkpoint would save (bodies, contact memory, time); the
-//! [`Pipeline`] it carries holds scratch only (the VI workspace), reused across steps.
+//! [`Pipeline`] it carries holds scratch only (the VI workspace and W's assembly storage),
+//! reused across steps.
 
 use crate::body::{Body, Dofs};
 use crate::cluster::Flexibility;
@@ -71,6 +72,8 @@ pub struct TrackedPoint {
 #[derive(Clone, Default)]
 pub struct Pipeline {
     vi: crate::vi::Solver,
+    /// Work storage of W's assembly (`delassus::Scratch`).
+    assembly: crate::delassus::Scratch,
 }
 
 /// Simulation state: bodies in their current configuration and the memory of the contacts.

@@ -50,6 +50,7 @@ impl World {
         lin: Vec<Linearization>,
         df: &[f64],
         rigid: impl Fn(usize) -> bool,
+        scratch: &mut delassus::Scratch,
     ) -> Rows {
         let mut blocks: Vec<usize> = contacts.iter().map(|c| c.law.row).collect();
         let total = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
@@ -64,7 +65,8 @@ impl World {
         for (c, l) in contacts.iter().zip(&lin) {
             q[c.law.row] += l.offset;
         }
-        let w = delassus::ContactOperator::new(&jac, &self.flex, &self.dofs, delassus::EXPLICIT_LIMIT);
+        let limit = delassus::EXPLICIT_LIMIT;
+        let w = delassus::ContactOperator::with_scratch(&jac, &self.flex, &self.dofs, limit, scratch);
         Rows { lin, jac, q, w, blocks }
     }
 

@@ -79,10 +79,10 @@ impl Runner<'_> {
         self.times.vi += started.elapsed().as_secs_f64();
     }
 
-    /// Builds rows, timing it.
-    fn rows<T>(&mut self, build: impl FnOnce() -> T) -> T {
+    /// Builds rows with the pipeline's assembly storage, timing it.
+    fn rows<T>(&mut self, build: impl FnOnce(&mut crate::delassus::Scratch) -> T) -> T {
         let started = Instant::now();
-        let rows = build();
+        let rows = build(&mut self.pipeline.assembly);
         self.times.rows += started.elapsed().as_secs_f64();
         rows
     }
@@ -114,7 +114,7 @@ impl World {
         let mut refinements = 0;
         // the rows of the last solve 1, and the linearization a further refinement gave
         let (rows, state, last) = loop {
-            let rows = runner.rows(|| self.rows(contacts, lin, df, |_| false));
+            let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
             let state = self.classify(contacts, &rows, &z1);
@@ -130,7 +130,7 @@ impl World {
             lin = next;
             refinements += 1;
         };
-        let rows2 = runner.rows(|| self.impact_rows(contacts, last, &state, df));
+        let rows2 = runner.rows(|a| self.impact_rows(contacts, last, &state, df, a));
         let mut z2 = z1.clone();
         if rows2.is_some() || self.needs_velocity_solve(contacts, &state) {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
@@ -153,13 +153,14 @@ impl World {
         lin: Vec<Linearization>,
         state: &Classified,
         df: &[f64],
+        scratch: &mut crate::delassus::Scratch,
     ) -> Option<Rows> {
         let impacting = |k: usize| state.impacting_rows[contacts[k].law.row];
         let deformable_impact = (0..contacts.len()).any(|k| {
             impacting(k)
                 && [contacts[k].geom.a, contacts[k].geom.b].iter().any(|&b| self.bodies[b].deformable)
         });
-        deformable_impact.then(|| self.rows(contacts, lin, df, impacting))
+        deformable_impact.then(|| self.rows(contacts, lin, df, impacting, scratch))
     }
 
     /// Solve 2 changes the forces only when some contact closed in solve 1 started the step
