@@ -302,8 +302,11 @@ impl Scratch {
             self.row_places[next[r]] = p; // places ascend by cluster
             next[r] += 1;
         }
+        // at most one entry per (place, place of its cluster): no regrowth of the arrays
+        let bound: usize =
+            self.place_cluster.iter().map(|&c| self.cluster_place[c + 1] - self.cluster_place[c]).sum();
         let mut indptr = Vec::with_capacity(jac.rows + 1);
-        let (mut indices, mut data) = (Vec::new(), Vec::new());
+        let (mut indices, mut data) = (Vec::with_capacity(bound), Vec::with_capacity(bound));
         indptr.push(0);
         for r in 0..jac.rows {
             self.entries.clear();

@@ -18,7 +18,6 @@ use super::solve::Classified;
 use crate::body::Dofs;
 use crate::contact::{BodyShape, ContactGeom, ContactKey};
 use crate::geometry::Vec2;
-use std::collections::HashMap;
 
 impl World {
     /// New linearizations from the trial increment `dbar` (a global DOF vector), and whether
@@ -41,12 +40,15 @@ impl World {
             })
             .collect();
         let full = |b: usize| self.dofs.gather(dbar, b);
-        let mut mid = HashMap::new();
-        let mut end = HashMap::new();
+        // the watched bodies' shapes half-way and at the end of the trial increment
+        let (mut mid, mut end): (Vec<Option<BodyShape>>, Vec<Option<BodyShape>>) =
+            (vec![None; self.bodies.len()], vec![None; self.bodies.len()]);
         for &k in &watched {
             for b in [contacts[k].geom.a, contacts[k].geom.b] {
-                mid.entry(b).or_insert_with(|| self.moved_shape(b, &(full(b) * 0.5)));
-                end.entry(b).or_insert_with(|| self.moved_shape(b, &full(b)));
+                if mid[b].is_none() {
+                    mid[b] = Some(self.moved_shape(b, &(full(b) * 0.5)));
+                    end[b] = Some(self.moved_shape(b, &full(b)));
+                }
             }
         }
         let mut next = lin.to_vec();
@@ -55,9 +57,12 @@ impl World {
         for k in watched {
             let c = &contacts[k];
             let (a, b) = (c.geom.a, c.geom.b);
+            let (Some(ma), Some(mb), Some(ea), Some(eb)) = (&mid[a], &mid[b], &end[a], &end[b]) else {
+                continue;
+            };
             let (Some(m), Some(e)) = (
-                self.same_contact(c.geom.key, &mid[&a], &mid[&b], a, b, &mut found),
-                self.same_contact(c.geom.key, &end[&a], &end[&b], a, b, &mut found),
+                self.same_contact(c.geom.key, ma, mb, a, b, &mut found),
+                self.same_contact(c.geom.key, ea, eb, a, b, &mut found),
             ) else {
                 continue;
             };
