@@ -40,7 +40,10 @@ fn run_writes_the_output_contract() {
         header(&out.join("contacts.csv")),
         "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state"
     );
-    assert_eq!(header(&out.join("monitors.csv")), "step,time,monitor,x,y,ux,uy,vx,vy");
+    assert_eq!(
+        header(&out.join("monitors.csv")),
+        "step,time,monitor,x,y,ux,uy,vx,vy,stress_x,stress_y,stress_xy"
+    );
     assert_eq!(
         header(&out.join("steps.csv")),
         "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds"

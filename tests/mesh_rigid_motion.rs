@@ -68,19 +68,8 @@ angular_velocity = 1.0
     assert!((world.bodies[0].rotation - 10.0).abs() < 1e-6, "rotation {}", world.bodies[0].rotation);
 }
 
-/// Patch test (math note §9.5): the unstructured `square.msh` block (width 1 m) between a fixed
-/// base and a rigid platen pressed by P = 1e5 N, frictionless, no gravity, static relaxation
-/// (`velocity_carry = 0`). Tri3 reproduces a uniform stress exactly on any mesh, so every element
-/// has σ_y = −P / width, σ_x = τ_xy = 0. Tolerance 1e-8 relative (the issue's bound). ν = 0 so that
-/// the width stays exactly 1 m as the block is compressed (with ν = 0.25 the geometric update
-/// would widen it by ν P/E = 2.5e-6); the strain P/E = 1e-5 keeps the nodal displacements (1e-5 m)
-/// far above the round-off of the node coordinates (1e-16 m), which limits the gaps' accuracy
-/// (at P/E = 1e-10 that alone costs 1e-6 in the stresses). Relaxation contracts the error by
-/// (2ρ/dt²)/(E/h²) ~ 1e-3 per step over 20 steps; the solver tolerance is 1e-13.
-#[test]
-fn patch_test_uniform_stress_in_every_element() {
-    let model = scene(
-        r#"
+/// The patch-test scene of `patch_test_uniform_stress_in_every_element`.
+const PATCH: &str = r#"
 [scene]
 name = "mesh"
 [time]
@@ -118,9 +107,20 @@ material = "rock"
 body = "platen"
 point = [0.5, 0.9]
 force = [0.0, -1.0e5]
-"#,
-    );
-    let mut world = World::new(model);
+"#;
+
+/// Patch test (math note §9.5): the unstructured `square.msh` block (width 1 m) between a fixed
+/// base and a rigid platen pressed by P = 1e5 N, frictionless, no gravity, static relaxation
+/// (`velocity_carry = 0`). Tri3 reproduces a uniform stress exactly on any mesh, so every element
+/// has σ_y = −P / width, σ_x = τ_xy = 0. Tolerance 1e-8 relative (the issue's bound). ν = 0 so that
+/// the width stays exactly 1 m as the block is compressed (with ν = 0.25 the geometric update
+/// would widen it by ν P/E = 2.5e-6); the strain P/E = 1e-5 keeps the nodal displacements (1e-5 m)
+/// far above the round-off of the node coordinates (1e-16 m), which limits the gaps' accuracy
+/// (at P/E = 1e-10 that alone costs 1e-6 in the stresses). Relaxation contracts the error by
+/// (2ρ/dt²)/(E/h²) ~ 1e-3 per step over 20 steps; the solver tolerance is 1e-13.
+#[test]
+fn patch_test_uniform_stress_in_every_element() {
+    let mut world = World::new(scene(PATCH));
     for step in 0..20 {
         world.step().unwrap_or_else(|e| panic!("step {step}: {e}"));
     }
@@ -197,4 +197,36 @@ material = "rock"
     let (ll, bl) = (sum("LL"), sum("BL"));
     assert!((ll - weight).abs() < 1e-6 * weight, "LL forces {ll} vs top weight {weight}");
     assert!((bl - 2.0 * weight).abs() < 1e-6 * weight, "base forces {bl} vs both weights {}", 2.0 * weight);
+}
+
+/// `monitors.csv` (scene format): on the patch test's scene, a monitor inside the mesh block
+/// reports the stress of the element holding it — the patch test's uniform σ_y = −P / width =
+/// −1e5 Pa, σ_x = τ_xy = 0, to the same 1e-8 relative — and a monitor on the rigid platen
+/// leaves the three stress columns empty. Every written step has one row per monitor (20 steps
+/// × 2 monitors).
+#[test]
+fn mesh_monitor_reports_its_element_stress() {
+    let text = format!(
+        "{PATCH}\n[[monitor]]\nname = \"inside\"\nbody = \"block\"\npoint = [0.37, 0.41]\n\n\
+         [[monitor]]\nname = \"platen\"\nbody = \"platen\"\npoint = [0.5, 0.9]\n"
+    );
+    let mut world = World::new(scene(&text));
+    let dir = std::env::temp_dir().join(format!("pbdda-monitor-stress-{}", std::process::id()));
+    let mut csv = pbdda::output::csv::CsvWriter::create(&dir, 1, 20, true).expect("output");
+    for step in 0..20 {
+        let rec = world.step().unwrap_or_else(|e| panic!("step {step}: {e}"));
+        csv.write_step(&world, &rec).expect("write");
+    }
+    drop(csv);
+    let text = std::fs::read_to_string(dir.join("monitors.csv")).expect("monitors.csv");
+    let rows: Vec<Vec<&str>> = text.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 40);
+    let last = |name: &str| rows.iter().rev().find(|r| r[2] == name).expect("monitor row").clone();
+    let inside = last("inside");
+    let stress: Vec<f64> = inside[9..12].iter().map(|v| v.parse().expect("stress")).collect();
+    let p = 1.0e5;
+    assert!((stress[1] + p).abs() < 1e-8 * p, "sigma_y {stress:?}");
+    assert!(stress[0].abs() < 1e-8 * p && stress[2].abs() < 1e-8 * p, "{stress:?}");
+    assert_eq!(last("platen")[9..12], ["", "", ""]);
+    std::fs::remove_dir_all(&dir).ok();
 }

@@ -82,7 +82,7 @@ const HEADERS: [(&str, &str); 4] = [
         "contacts.csv",
         "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state",
     ),
-    ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy"),
+    ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy,stress_x,stress_y,stress_xy"),
     (
         "steps.csv",
         "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds",
@@ -255,7 +255,7 @@ impl CsvWriter {
             let body = &world.bodies[p.body];
             let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
             let (x, y) = (Num(p.current.x), Num(p.current.y));
-            writeln!(
+            write!(
                 self.monitors.rows,
                 "{s},{t},{},{x},{y},{},{},{},{}",
                 m.name,
@@ -264,6 +264,14 @@ impl CsvWriter {
                 Num(v.x),
                 Num(v.y)
             )?;
+            // the stress of the mesh element holding the point (scene-format: monitors.csv)
+            match &body.mesh {
+                Some(fe) => {
+                    let st = fe.stress_at(p.current);
+                    writeln!(self.monitors.rows, ",{},{},{}", Num(st[0]), Num(st[1]), Num(st[2]))?
+                }
+                None => writeln!(self.monitors.rows, ",,,")?,
+            }
         }
         Ok(())
     }
