@@ -46,6 +46,8 @@ pub struct Flexibility {
     factors: Vec<Arc<Factor>>,
     /// Route single bodies through the sparse path too (a reference check of that path).
     sparse_only: bool,
+    /// The step length the factors are for (K̃ = K + 2M/dt²): a new one refactors them all.
+    dt: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -59,11 +61,11 @@ impl Flexibility {
     /// An empty flexibility; [`Self::refresh`] factorizes. With `sparse_only`, every cluster,
     /// single bodies included, goes through the sparse Cholesky.
     pub fn new(sparse_only: bool) -> Flexibility {
-        Flexibility { factors: Vec::new(), sparse_only }
+        Flexibility { factors: Vec::new(), sparse_only, dt: f64::NAN }
     }
 
     /// Factorizes the clusters whose K̃ changed: all of them on the first call (or when the
-    /// cluster count changed), then those holding a deformable body (their mass and stiffness
+    /// cluster count or the step length changed), then those holding a deformable body (their mass and stiffness
     /// follow the geometry) or a coupling (connector blocks follow the anchors).
     pub fn refresh(
         &mut self,
@@ -72,9 +74,10 @@ impl Flexibility {
         couplings: &[CouplingBlock],
         dt: f64,
     ) -> Result<(), FactorError> {
-        let first = self.factors.len() != map.clusters();
+        let first = self.factors.len() != map.clusters() || self.dt != dt;
         if first {
             self.factors.clear();
+            self.dt = dt;
         }
         for c in 0..map.clusters() {
             let members = map.members(c);

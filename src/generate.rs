@@ -79,7 +79,7 @@ impl DiskPile {
         }
         Model {
             name: format!("pile of {} disks", self.rows * self.columns),
-            time: TimeSettings { step: self.dt, steps: 1 },
+            time: TimeSettings::new(self.dt, 1),
             physics: Physics { gravity: Vec2::new(0.0, -9.81), plane: Plane::Stress, velocity_carry: 1.0 },
             contact: ContactSettings { threshold: Some(0.1 * r) },
             solver: SolverSettings { tolerance: 1e-6, max_iterations: 20_000, ..SolverSettings::default() },

@@ -29,6 +29,18 @@ pub struct TimeSettings {
     pub step: f64,
     /// Number of steps to run (from `steps`, or `ceil(end / step)` when `end` is given).
     pub steps: usize,
+    /// A step that fails (math note §10.8) is repeated as two of half the length (`[time]
+    /// adaptive`, default true).
+    pub adaptive: bool,
+    /// The most times a step may be halved (`[time] max_halvings`, 0–30, default 6).
+    pub max_halvings: u32,
+}
+
+impl TimeSettings {
+    /// `steps` steps of `step` with the default step policy (adaptive, 6 halvings).
+    pub fn new(step: f64, steps: usize) -> TimeSettings {
+        TimeSettings { step, steps, adaptive: true, max_halvings: 6 }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -58,13 +70,21 @@ pub struct SolverSettings {
     pub tolerance: f64,
     /// Inner PC iterations per step, all outer loops together.
     pub max_iterations: usize,
-    /// VI method (`auto`, `pc`, `nsgs`; math note §4.7).
+    /// VI method (`auto`, `pc`, `nsgs`, `mprgp`; math note §4.7, §4.8).
     pub method: crate::vi::Method,
+    /// Accept a step whose VI did not converge with a warning (`[solver] allow_unconverged`,
+    /// default false: such a step fails, math note §10.8).
+    pub allow_unconverged: bool,
 }
 
 impl Default for SolverSettings {
     fn default() -> Self {
-        Self { tolerance: 1e-8, max_iterations: 200_000, method: crate::vi::Method::Auto }
+        Self {
+            tolerance: 1e-8,
+            max_iterations: 200_000,
+            method: crate::vi::Method::Auto,
+            allow_unconverged: false,
+        }
     }
 }
 

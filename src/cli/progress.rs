@@ -4,7 +4,7 @@
 //! terminal (a pipe, a CI log): plain lines at every 10 % of the steps, and at least every
 //! 10 s of wall time, without escape codes or carriage returns. `--quiet`: nothing.
 
-use crate::world::{Event, StepRecord, Warning};
+use crate::world::{Event, StepRecord, Trouble, Warning};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::BTreeMap;
 use std::io::IsTerminal;
@@ -191,6 +191,9 @@ fn warning_kind(w: &Warning) -> &'static str {
     match w {
         Warning::NotConverged { .. } => "solver not converged",
         Warning::Penetration { .. } => "penetration",
+        Warning::Trouble { trouble: Trouble::Penetration { .. }, .. } => "penetration",
+        Warning::Trouble { trouble: Trouble::MovedTooFar { .. }, .. } => "moved beyond the contact threshold",
+        Warning::Trouble { .. } => "numerical trouble",
     }
 }
 
@@ -198,5 +201,6 @@ fn event_kind(e: &Event) -> &'static str {
     match e {
         Event::JointBroke { .. } => "joint broke",
         Event::ConnectorBroke { .. } => "connector broke",
+        Event::StepSplit { .. } => "step split",
     }
 }

@@ -193,7 +193,16 @@ fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
             return Err(Problem::missing(header, "steps", message));
         }
     };
-    Ok(TimeSettings { step, steps })
+    let halvings = |v: &Spanned<i64>, key: &str| match u32::try_from(*v.get_ref()) {
+        Ok(n) if n <= 30 => Ok(n),
+        _ => fail(v.span(), format!("{key} must be a whole number from 0 to 30 (got {})", v.get_ref())),
+    };
+    let default = TimeSettings::new(step, steps);
+    Ok(TimeSettings {
+        adaptive: t.adaptive.unwrap_or(default.adaptive),
+        max_halvings: or_default(&t.max_halvings, "max_halvings", halvings, default.max_halvings)?,
+        ..default
+    })
 }
 
 /// The most steps a run may have: 1e9 steps of even the smallest scene take days; a larger
@@ -242,6 +251,7 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
             |v, k| choice(v, k, &crate::vi::Method::ALL),
             default.method,
         )?,
+        allow_unconverged: s.allow_unconverged.unwrap_or(default.allow_unconverged),
     })
 }
 

@@ -49,6 +49,8 @@ pub(super) struct Time {
     pub step: Spanned<f64>,
     pub steps: Option<Spanned<i64>>,
     pub end: Option<Spanned<f64>>,
+    pub adaptive: Option<bool>,
+    pub max_halvings: Option<Spanned<i64>>,
 }
 
 /// `[physics]`
@@ -74,6 +76,7 @@ pub(super) struct Solver {
     pub tolerance: Option<Spanned<f64>>,
     pub max_iterations: Option<Spanned<i64>>,
     pub method: Option<Spanned<String>>,
+    pub allow_unconverged: Option<bool>,
 }
 
 /// `[[material]]`

@@ -19,8 +19,8 @@ pub(super) struct Contact {
 impl World {
     /// Contacts within the threshold, enlarged when the predicted motion of this step needs
     /// it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA), with their laws and VI row
-    /// layout.
-    pub(super) fn detect(&self, df: &[f64]) -> Vec<Contact> {
+    /// layout; and the threshold used.
+    pub(super) fn detect(&self, df: &[f64]) -> (Vec<Contact>, f64) {
         let u_max = (0..self.bodies.len())
             .map(|b| self.bodies[b].max_motion(&df[self.dofs.range(b)]))
             .fold(0.0, f64::max);
@@ -30,7 +30,7 @@ impl World {
         crate::contact::label_mesh_kinds(&mut geoms, &meshes);
         let partners = joint_partners(&geoms);
         let mut row = 0;
-        geoms
+        let contacts = geoms
             .into_iter()
             .zip(partners)
             .map(|(geom, partner)| {
@@ -40,7 +40,8 @@ impl World {
                 let start_gap = if geom.g0.abs() < self.allowance { 0.0 } else { geom.g0 };
                 Contact { geom, law, memory, start_gap }
             })
-            .collect()
+            .collect();
+        (contacts, threshold)
     }
 
     /// The law of one contact: interface of the two materials, capacities over the joint's

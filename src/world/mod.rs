@@ -30,6 +30,7 @@ use crate::model::{Interface, Model};
 use std::collections::HashSet;
 use std::time::Instant;
 
+mod adaptive;
 mod connectors;
 mod detect;
 mod predict;
@@ -39,6 +40,7 @@ mod rows;
 mod solve;
 mod update;
 
+pub use adaptive::Trouble;
 pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
 
 /// Library-level switches that are not part of the scene format.
@@ -99,6 +101,10 @@ pub struct World {
     broken: HashSet<ContactKey>,
     /// Penetration allowance [m] of math note §10.2, from the last step's solve.
     allowance: f64,
+    /// Whether a (trial) step has been taken: v0 is the initial velocity before, k v1 after.
+    started: bool,
+    /// Length of the current trial step (dt, or a fraction of it: `adaptive.rs`).
+    h: f64,
     pipeline: Pipeline,
 }
 
@@ -133,6 +139,8 @@ impl World {
             memory: ContactMemory::new(),
             broken: HashSet::new(),
             allowance: 1e-9 * threshold,
+            started: false,
+            h: 0.0,
             pipeline: Pipeline::default(),
         };
         world.renumber();
@@ -140,29 +148,25 @@ impl World {
         world
     }
 
-    pub fn dt(&self) -> f64 {
-        self.model.time.step
-    }
-
-    /// Advances one step of length dt: the six stages, top to bottom.
-    pub fn step(&mut self) -> Result<StepRecord, StepError> {
+    /// One trial of length `dt` ending at time `t1` (`adaptive.rs` repeats failed ones): the
+    /// six stages, top to bottom, then the checks of math note §10.8.
+    fn trial(&mut self, dt: f64, t1: f64) -> Result<StepRecord, adaptive::Failure> {
         let started = Instant::now();
         let mut clock = Clock(started);
         let mut stages = StageTimes::default();
-        let dt = self.dt();
         let step = self.step_index + 1;
-        // time as step × dt, not accumulated, so that t is exact at step boundaries
-        let t1 = step as f64 * dt;
         let mut events = Vec::new();
-        // a connector that breaks changes the system: the step is solved again without it (§6)
-        let (contacts, solved, motion) = loop {
+        self.h = dt;
+        // a connector or cemented joint that breaks changes the system: the step is solved again
+        // without it (§6, §10.8)
+        let (contacts, solved, motion, threshold) = loop {
             let couplings = self.couplings();
             self.flex
                 .refresh(&self.dofs, &self.bodies, &couplings, dt)
-                .map_err(|source| StepError::Singular { step, source })?;
+                .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
             let df = self.predict(t1);
             stages.predict += clock.lap();
-            let contacts = self.detect(&df);
+            let (contacts, threshold) = self.detect(&df);
             stages.detect += clock.lap();
             let mut pipeline = std::mem::take(&mut self.pipeline);
             let solved = self.solve(&contacts, &df, &mut pipeline);
@@ -171,25 +175,49 @@ impl World {
             stages.vi += solved.times.vi;
             stages.refine += clock.lap() - solved.times.rows - solved.times.vi;
             let motion = self.motion(&df, &solved);
-            self.check_finite(&motion, step)?;
+            self.check_finite(&motion)?;
+            let joints = self.breakage(&solved);
+            if joints.contains(&true) {
+                events.extend(self.breakage_events(&contacts, &joints, step));
+                continue;
+            }
             let broke = self.break_connectors(&motion.dbar, step);
             if broke.is_empty() {
-                break (contacts, solved, motion);
+                break (contacts, solved, motion, threshold);
             }
             events.extend(broke);
             self.renumber();
         };
+        let r = &solved.report;
+        if !r.converged && !self.model.solver.allow_unconverged {
+            let (residual, iterations) = (r.residual, r.inner_iterations);
+            return Err(adaptive::Trouble::NotConverged { residual, iterations }.into());
+        }
+        // with `adaptive = false` a trial is never repeated: motion and penetration are warnings
+        let adaptive = self.model.time.adaptive;
+        let mut warnings = solved.warnings.clone();
+        if let Some(trouble) = self.moved_too_far(&motion.dbar, threshold) {
+            if adaptive {
+                return Err(trouble.into());
+            }
+            warnings.push(Warning::Trouble { step, trouble });
+        }
+        // start depths by key (contacts are detected sorted by key)
+        let depths: Vec<(ContactKey, f64)> = contacts.iter().map(|c| (c.geom.key, -c.geom.g0)).collect();
         self.allowance = self.gap_accuracy(&solved);
         self.update_connectors(&motion.dbar);
         self.update(&motion, dt);
-        let broken = self.breakage(&solved);
-        let records = self.contact_records(&contacts, &solved, &broken);
-        self.remember(&contacts, &solved, &broken);
-        self.step_index = step;
         self.time = t1;
-        let mut warnings = solved.warnings;
+        self.started = true;
+        if let Some(trouble) = self.new_penetration(&depths, threshold) {
+            if adaptive {
+                return Err(trouble.into());
+            }
+            warnings.push(Warning::Trouble { step, trouble });
+        }
+        let records = self.contact_records(&contacts, &solved);
+        self.remember(&contacts, &solved);
         warnings.extend(self.penetration_warnings(&contacts, step));
-        events.extend(self.breakage_events(&contacts, &broken, step));
         stages.update = clock.lap();
         Ok(StepRecord {
             step,
@@ -208,6 +236,11 @@ impl World {
         })
     }
 
+    /// The scene's time step (a step may run as shorter trials: `adaptive.rs`).
+    pub fn dt(&self) -> f64 {
+        self.model.time.step
+    }
+
     fn shapes(&self) -> Vec<BodyShape> {
         self.bodies.iter().map(Body::shape).collect()
     }
@@ -216,10 +249,10 @@ impl World {
         self.bodies.iter().map(|b| b.fixed).collect()
     }
 
-    /// v0 of the coming step: the initial velocity on the first step, then k v1 with k the
+    /// v0 of the coming step: the initial velocity on the first (trial) step, then k v1 with k the
     /// velocity carry (DDA's dynamic ratio, math note §1.1).
     fn v0(&self, body: &Body) -> Dofs {
-        if self.step_index == 0 { body.velocity } else { body.velocity * self.model.physics.velocity_carry }
+        if self.started { body.velocity * self.model.physics.velocity_carry } else { body.velocity }
     }
 
     fn interface(&self, a: usize, b: usize) -> &Interface {

@@ -10,7 +10,7 @@ use crate::model::Load;
 impl World {
     /// d^f as a global DOF vector.
     pub(super) fn predict(&self, t1: f64) -> Vec<f64> {
-        let dt = self.dt();
+        let dt = self.h;
         let g = self.model.physics.gravity;
         let mut f: Vec<_> = self
             .bodies
@@ -39,7 +39,7 @@ impl World {
             match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
                 // a mesh body's load (math note §9.1)
                 Some(fe) => {
-                    let v0_scale = if self.step_index == 0 { 1.0 } else { self.model.physics.velocity_carry };
+                    let v0_scale = if self.started { self.model.physics.velocity_carry } else { 1.0 };
                     let fm = fe.step_load(g, v0_scale, dt);
                     df[self.dofs.range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
                 }

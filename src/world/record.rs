@@ -75,6 +75,8 @@ pub enum Warning {
     NotConverged { step: usize, solve: SolveKind, residual: f64, iterations: usize },
     /// Two bodies started the step penetrating deeper than 5 % of the contact threshold.
     Penetration { step: usize, body_a: String, body_b: String, depth: f64 },
+    /// What would have failed the step with `[time] adaptive = true` (math note §10.8).
+    Trouble { step: usize, trouble: super::Trouble },
 }
 
 impl fmt::Display for Warning {
@@ -87,6 +89,7 @@ impl fmt::Display for Warning {
             Warning::Penetration { step, body_a, body_b, depth } => {
                 write!(f, "step {step}: bodies {body_a} and {body_b} penetrate by {depth:.3e} m")
             }
+            Warning::Trouble { step, trouble } => write!(f, "step {step}: {trouble}"),
         }
     }
 }
@@ -99,6 +102,8 @@ pub enum Event {
     /// A connector's tension exceeded its strength: it broke for good and the step was solved
     /// again without it (math note §6).
     ConnectorBroke { step: usize, connector: String, force: f64 },
+    /// A trial failed and the rest of the step runs as trials of length `dt` (math note §10.8).
+    StepSplit { step: usize, dt: f64, cause: String },
 }
 
 impl fmt::Display for Event {
@@ -113,6 +118,9 @@ impl fmt::Display for Event {
                 f,
                 "step {step}: connector {connector} broke at axial force {force} N; the step was solved again without it"
             ),
+            Event::StepSplit { step, dt, cause } => {
+                write!(f, "step {step}: {cause}; repeated with dt = {dt:e}")
+            }
         }
     }
 }
@@ -132,6 +140,18 @@ pub struct StageTimes {
     pub refine: f64,
     /// Update, breakage, memory and records (stages 5-6).
     pub update: f64,
+}
+
+impl StageTimes {
+    /// Adds another trial's times.
+    pub fn add(&mut self, o: &StageTimes) {
+        self.predict += o.predict;
+        self.detect += o.detect;
+        self.rows += o.rows;
+        self.vi += o.vi;
+        self.refine += o.refine;
+        self.update += o.update;
+    }
 }
 
 impl fmt::Display for StageTimes {
@@ -172,8 +192,9 @@ pub struct StepRecord {
 /// Numerical failure that stops a run.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum StepError {
-    #[error("step {step}: non-finite displacement (NaN or infinity) in bodies {bodies:?}")]
-    NonFinite { step: usize, bodies: Vec<String> },
+    /// A trial of the smallest allowed length failed (math note §10.8).
+    #[error("step {step} failed at dt = {dt:e}: {trouble}")]
+    Failed { step: usize, dt: f64, trouble: super::Trouble },
     #[error("step {step}: {source}")]
     Singular { step: usize, source: FactorError },
 }

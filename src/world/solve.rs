@@ -217,7 +217,7 @@ impl World {
             body.displacement(x, &self.v0(body))
         };
         let rate = c.geom.normal.dot(&(velocity(c.geom.a) - velocity(c.geom.b)));
-        rate * self.dt() < -self.allowance
+        rate * self.h < -self.allowance
     }
 
     /// d̄ = d^f + K̃⁻¹ Bᵀ z + K̃⁻¹ B_impᵀ z_imp: the geometry increment with the impacting

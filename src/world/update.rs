@@ -2,7 +2,7 @@
 
 use super::detect::Contact;
 use super::solve::Solved;
-use super::{ContactRecord, ContactState, Event, StepError, Warning, World};
+use super::{ContactRecord, ContactState, Event, Warning, World};
 use crate::contact::set::Memory;
 
 /// The displacements of a step, as global DOF vectors (math note §1.3 c, d).
@@ -21,8 +21,8 @@ impl World {
         Motion { dbar, dvel }
     }
 
-    /// A NaN or infinity anywhere stops the run, naming the bodies.
-    pub(super) fn check_finite(&self, m: &Motion, step: usize) -> Result<(), StepError> {
+    /// A NaN or infinity anywhere fails the trial, naming the bodies (math note §10.8).
+    pub(super) fn check_finite(&self, m: &Motion) -> Result<(), super::Trouble> {
         let bad: Vec<String> = (0..self.bodies.len())
             .filter(|&b| {
                 let r = self.dofs.range(b);
@@ -30,7 +30,7 @@ impl World {
             })
             .map(|b| self.bodies[b].name.clone())
             .collect();
-        if bad.is_empty() { Ok(()) } else { Err(StepError::NonFinite { step, bodies: bad }) }
+        if bad.is_empty() { Ok(()) } else { Err(super::Trouble::NonFinite { bodies: bad }) }
     }
 
     /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
@@ -53,7 +53,7 @@ impl World {
             }
         }
         let v0: Vec<_> = self.bodies.iter().map(|b| self.v0(b)).collect();
-        let v0_scale = if self.step_index == 0 { 1.0 } else { self.model.physics.velocity_carry };
+        let v0_scale = if self.started { self.model.physics.velocity_carry } else { 1.0 };
         for (b, body) in self.bodies.iter_mut().enumerate() {
             if is_mesh(body) {
                 let r = self.dofs.range(b);
@@ -73,7 +73,8 @@ impl World {
     }
 
     /// Bonded contacts that reached their tensile share and opened in solve 1: broken for
-    /// good, together with their joint partner (math note §4.5, hypothesis iv).
+    /// good, together with their joint partner (math note §4.5, hypothesis iv); the step is
+    /// then solved again without their bond (§10.8).
     pub(super) fn breakage(&self, s: &Solved) -> Vec<bool> {
         let laws = &s.laws;
         let rule = self.bounds(laws);
@@ -113,12 +114,7 @@ impl World {
         events
     }
 
-    pub(super) fn contact_records(
-        &self,
-        contacts: &[Contact],
-        s: &Solved,
-        broken: &[bool],
-    ) -> Vec<ContactRecord> {
+    pub(super) fn contact_records(&self, contacts: &[Contact], s: &Solved) -> Vec<ContactRecord> {
         let rule = self.bounds(&s.laws);
         contacts
             .iter()
@@ -126,7 +122,7 @@ impl World {
             .map(|(k, c)| {
                 let r = c.law.row;
                 let (pn, pt) = (s.z2[r], s.z2[r + 1]);
-                let state = if c.law.bonded && !broken[k] {
+                let state = if c.law.bonded {
                     ContactState::Bonded
                 } else if pn <= 0.0 {
                     ContactState::Open
@@ -152,8 +148,9 @@ impl World {
             .collect()
     }
 
-    /// Warm start, "was closed" and bond memory for the next step.
-    pub(super) fn remember(&mut self, contacts: &[Contact], s: &Solved, broken: &[bool]) {
+    /// Warm start, "was closed" and bond memory for the next step (a joint that broke in the
+    /// step was solved again unbonded: `World::trial`).
+    pub(super) fn remember(&mut self, contacts: &[Contact], s: &Solved) {
         self.memory = contacts
             .iter()
             .enumerate()
@@ -161,8 +158,7 @@ impl World {
                 let r = c.law.row;
                 let mut force = [0.0; 3];
                 force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
-                let bonded = c.law.bonded && !broken[k];
-                (c.geom.key, Memory { force, closed: s.state.closed[k] && !broken[k], bonded })
+                (c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded })
             })
             .collect();
     }

@@ -6,6 +6,7 @@ use pbdda::world::{ContactRecord, StepRecord, World};
 use std::path::Path;
 
 pub mod disk_7_7;
+pub mod scenes;
 
 /// Loads `examples/NAME` through the scene reader, as a user's run would.
 pub fn example(name: &str) -> Model {

@@ -1,0 +1,205 @@
+//! Steps that fail are repeated with half the time step (math note §10.8).
+//!
+//! [`World::step`] advances one scene step of length dt. It runs it as one *trial*; a trial
+//! that fails — the VI did not converge (unless `[solver] allow_unconverged`), a displacement
+//! is not finite, a body moved farther than the contact detection could see, or a contact
+//! penetrates deeper than 5 % of d0 and deeper than at the trial's start — is undone (the
+//! state saved before it is restored) and the rest of the step is run as trials of half the
+//! length, down to dt / 2^max_halvings. If a trial of the smallest length fails, the run stops
+//! with [`StepError::Failed`], naming the step, the cause and the bodies. Output times stay on
+//! the scene's grid: the record of a split step is the merge of its trials, at the end of the
+//! step, with `dt` the smallest trial length used and an [`Event::StepSplit`] per halving.
+
+use super::{Event, StepError, StepRecord, TrackedPoint, World};
+use crate::body::Body;
+use crate::connector::Connector;
+use crate::contact::ContactKey;
+use crate::contact::set::ContactMemory;
+use crate::dofs::DofMap;
+use std::collections::HashSet;
+use std::fmt;
+use std::time::Instant;
+
+/// Why a trial step failed (math note §10.8).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Trouble {
+    /// The contact VI stopped above its tolerance.
+    NotConverged { residual: f64, iterations: usize },
+    /// A displacement or velocity is NaN or infinite.
+    NonFinite { bodies: Vec<String> },
+    /// A body moved more than half the detection threshold: contacts it could meet were not seen.
+    MovedTooFar { body: String, motion: f64, limit: f64 },
+    /// Two bodies penetrate deeper than 5 % of d0, and deeper than at the trial's start.
+    Penetration { body_a: String, body_b: String, depth: f64, limit: f64 },
+}
+
+impl fmt::Display for Trouble {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Trouble::NotConverged { residual, iterations } => write!(
+                f,
+                "the contact solver did not converge (residual {residual:.3e} after {iterations} iterations)"
+            ),
+            Trouble::NonFinite { bodies } => {
+                write!(f, "non-finite displacement in bodies {}", bodies.join(", "))
+            }
+            Trouble::MovedTooFar { body, motion, limit } => write!(
+                f,
+                "body {body} moved {motion:.3e} m, more than the {limit:.3e} m the contact detection covers \
+                 (half of [contact] threshold)"
+            ),
+            Trouble::Penetration { body_a, body_b, depth, limit } => {
+                write!(f, "bodies {body_a} and {body_b} penetrate by {depth:.3e} m (limit {limit:.3e} m)")
+            }
+        }
+    }
+}
+
+/// A trial's outcome when it is not a record: repeat it shorter, or stop.
+pub(super) enum Failure {
+    Retry(Trouble),
+    Fatal(StepError),
+}
+
+impl From<Trouble> for Failure {
+    fn from(t: Trouble) -> Failure {
+        Failure::Retry(t)
+    }
+}
+
+/// The state a trial changes (everything but the model, the factors, which every trial
+/// refreshes, and scratch).
+struct Saved {
+    bodies: Vec<Body>,
+    time: f64,
+    started: bool,
+    load_points: Vec<TrackedPoint>,
+    monitors: Vec<TrackedPoint>,
+    connectors: Vec<Connector>,
+    dofs: DofMap,
+    memory: ContactMemory,
+    broken: HashSet<ContactKey>,
+    allowance: f64,
+}
+
+impl World {
+    /// Advances one step of length dt, repeating failed trials with half the length (module
+    /// docs; math note §10.8).
+    pub fn step(&mut self) -> Result<StepRecord, StepError> {
+        let started = Instant::now();
+        let time = self.model.time;
+        let (step, dt, t0) = (self.step_index + 1, time.step, self.time);
+        let most = if time.adaptive { time.max_halvings } else { 0 };
+        // `done` trials of length dt / 2^level so far
+        let (mut level, mut done, mut merged, mut splits) = (0u32, 0u64, None::<StepRecord>, Vec::new());
+        while done < 1 << level {
+            let h = dt / (1u64 << level) as f64;
+            // time as step × dt at the step's end, not accumulated
+            let t1 = if done + 1 == 1 << level { step as f64 * dt } else { t0 + (done + 1) as f64 * h };
+            let saved = (level < most).then(|| self.save());
+            match (self.trial(h, t1), saved) {
+                (Ok(rec), _) => {
+                    merged = Some(match merged {
+                        Some(m) => merge(m, rec),
+                        None => rec,
+                    });
+                    done += 1;
+                }
+                (Err(Failure::Fatal(e)), _) => return Err(e),
+                (Err(Failure::Retry(trouble)), Some(saved)) => {
+                    self.restore(saved);
+                    (level, done) = (level + 1, done * 2);
+                    splits.push(Event::StepSplit {
+                        step,
+                        dt: dt / (1u64 << level) as f64,
+                        cause: trouble.to_string(),
+                    });
+                }
+                (Err(Failure::Retry(trouble)), None) => {
+                    return Err(StepError::Failed { step, dt: h, trouble });
+                }
+            }
+        }
+        let mut rec = merged.expect("at least one trial");
+        splits.append(&mut rec.events);
+        rec.events = splits;
+        rec.wall_seconds = started.elapsed().as_secs_f64();
+        self.step_index = step;
+        Ok(rec)
+    }
+
+    fn save(&self) -> Saved {
+        Saved {
+            bodies: self.bodies.clone(),
+            time: self.time,
+            started: self.started,
+            load_points: self.load_points.clone(),
+            monitors: self.monitors.clone(),
+            connectors: self.connectors.clone(),
+            dofs: self.dofs.clone(),
+            memory: self.memory.clone(),
+            broken: self.broken.clone(),
+            allowance: self.allowance,
+        }
+    }
+
+    fn restore(&mut self, s: Saved) {
+        (self.bodies, self.time, self.started) = (s.bodies, s.time, s.started);
+        (self.load_points, self.monitors, self.connectors) = (s.load_points, s.monitors, s.connectors);
+        (self.dofs, self.memory, self.broken, self.allowance) = (s.dofs, s.memory, s.broken, s.allowance);
+    }
+
+    /// The first body whose increment `dbar` moves a point farther than half the detection
+    /// threshold `threshold` (two bodies closing from both sides then meet within it).
+    pub(super) fn moved_too_far(&self, dbar: &[f64], threshold: f64) -> Option<Trouble> {
+        let limit = 0.5 * threshold;
+        (0..self.bodies.len()).find_map(|b| {
+            let motion = self.bodies[b].max_motion(&dbar[self.dofs.range(b)]);
+            (!(motion <= limit)).then(|| Trouble::MovedTooFar {
+                body: self.bodies[b].name.clone(),
+                motion,
+                limit,
+            })
+        })
+    }
+
+    /// The first contact of the current configuration that penetrates deeper than 5 % of d0
+    /// and deeper than at the trial's start (`before`: depths by key; a start overlap that does
+    /// not grow, by more than 1e-3 of the limit, is tolerated, since no shorter step can undo it).
+    /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
+    /// penetration only within it.
+    pub(super) fn new_penetration(&self, before: &[(ContactKey, f64)], threshold: f64) -> Option<Trouble> {
+        let limit = 0.05 * self.threshold;
+        let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
+        found.into_iter().find_map(|g| {
+            let start = before.binary_search_by_key(&g.key, |e| e.0).map_or(0.0, |i| before[i].1.max(0.0));
+            let depth = -g.g0;
+            (depth > limit && depth > start + 1e-3 * limit).then(|| Trouble::Penetration {
+                body_a: self.bodies[g.a].name.clone(),
+                body_b: self.bodies[g.b].name.clone(),
+                depth,
+                limit,
+            })
+        })
+    }
+}
+
+/// One record for a step run as several trials: the state of the last, the work of all.
+fn merge(a: StepRecord, b: StepRecord) -> StepRecord {
+    let mut stages = a.stages;
+    stages.add(&b.stages);
+    let (mut warnings, mut events) = (a.warnings, a.events);
+    warnings.extend(b.warnings);
+    events.extend(b.events);
+    StepRecord {
+        dt: a.dt.min(b.dt),
+        outer_iterations: a.outer_iterations + b.outer_iterations,
+        inner_iterations: a.inner_iterations + b.inner_iterations,
+        residual: a.residual.max(b.residual),
+        converged: a.converged && b.converged,
+        stages,
+        warnings,
+        events,
+        ..b
+    }
+}
