@@ -1,5 +1,5 @@
 //! Every VI method (`[solver] method`, math note §4.2, §4.7 and §4.8) reproduces the paper's examples
-//! §7.1–7.8: the rows of `pbdda validate` (closed forms of design note §7, `cli::validate::exact`,
+//! §7.1–7.10: the rows of `pbdda validate` (closed forms of design note §7, `cli::validate::exact`,
 //! each row with the tolerance justified in its note) are run with the method forced on every
 //! scene, and every row must lie within its tolerance. The QVIs of these scenes have unique
 //! solutions where the rows compare forces (statically determinate supports, §7.2 compares
@@ -11,8 +11,9 @@ use pbdda::scene::Override;
 fn run(method: &str) -> Vec<Row> {
     let o = Override::parse(&format!("solver.method={method}")).expect("a valid override");
     let rows = rows_with(&[o]).expect("every example runs");
-    // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6 (as tests/validate.rs)
-    assert_eq!(rows.len(), 41);
+    // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6, 7.9: 9, 7.10: 3
+    // (as tests/validate.rs)
+    assert_eq!(rows.len(), 53);
     rows
 }
 

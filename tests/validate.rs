@@ -32,12 +32,12 @@ fn every_row_within_tolerance_and_markdown_written() {
     eprintln!("{text}");
     assert!(o.status.success(), "{text}\n{}", String::from_utf8_lossy(&o.stderr));
     let rows: Vec<&str> = text.lines().skip(1).filter(|l| l.starts_with("7.")).collect();
-    // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6
-    assert_eq!(rows.len(), 41, "{text}");
+    // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6, 7.9: 3 x 3, 7.10: 3
+    assert_eq!(rows.len(), 53, "{text}");
     assert!(rows.iter().all(|r| r.contains(" ok (tol")), "{text}");
-    assert!(text.contains("all 41 rows within their tolerance"));
+    assert!(text.contains("all 53 rows within their tolerance"));
     let md = std::fs::read_to_string(&file).expect("markdown report written");
-    assert_eq!(md.lines().filter(|l| l.starts_with("| 7.")).count(), 41, "{md}");
-    assert!(md.contains("41 rows, 0 outside their tolerance."), "{md}");
+    assert_eq!(md.lines().filter(|l| l.starts_with("| 7.")).count(), 53, "{md}");
+    assert!(md.contains("53 rows, 0 outside their tolerance."), "{md}");
     let _ = std::fs::remove_file(&file);
 }

@@ -66,7 +66,7 @@ pub enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<Override>,
     },
-    /// Run the paper's examples (§7.1-7.8, built in) and print paper, exact and pbdda values.
+    /// Run the paper's examples (§7.1-7.10, built in) and print paper, exact and pbdda values.
     Validate {
         /// Also write the table as a Markdown report to this file.
         #[arg(long, value_name = "FILE")]
