@@ -4,8 +4,9 @@
 //!
 //! Where the expected numbers come from:
 //! - cell and point counts: the contract (one cell per body, one line per contact row of
-//!   contacts.csv at that step) and the display tessellation (64-gon disks, rings as a strip
-//!   of 2 × 64 points, polygons by their vertex count in the scene);
+//!   contacts.csv and per connector row of connectors.csv at that step, one triangle per mesh
+//!   element on the mesh's nodes) and the display tessellation (64-gon disks, rings as a strip
+//!   of 2 × 64 points, polygons by their vertex count in the scene); every example is run;
 //! - values: the CSV columns of the same step, parsed back. Both files are written from the
 //!   same f64 (CSV in shortest round-trip form, VTK as binary f64), so they must agree
 //!   exactly;
@@ -17,6 +18,7 @@
 
 use pbdda::geometry::{Vec2, polygon_moments};
 use pbdda::model::Model;
+use pbdda::output::connectors::ConnectorWriter;
 use pbdda::output::csv::CsvWriter;
 use pbdda::output::results::{Table, write_geometry};
 use pbdda::output::vtk::VtkWriter;
@@ -40,11 +42,13 @@ fn run_model(name: &str, mut model: Model, steps: usize, every: usize) -> (PathB
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("vtk_{name}"));
     let mut world = World::new(model);
     let mut csv = CsvWriter::create(&dir, every, steps, true).expect("csv writer");
+    let mut lines = ConnectorWriter::create(&dir, &world, true).expect("connector writer");
     write_geometry(&dir, &world).expect("geometry");
     let mut vtk = VtkWriter::create(&dir, &world).expect("vtk writer");
     for _ in 0..steps {
         let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
         csv.write_step(&world, &rec).expect("csv step");
+        lines.write_step(&world, &rec).expect("connectors step");
         vtk.write_step(&world, &rec).expect("vtk step");
     }
     (dir, world)
@@ -56,6 +60,8 @@ struct Step {
     cells: Vec<Vec<usize>>,
     types: Vec<CellType>,
     arrays: Vec<(String, Vec<f64>)>,
+    /// Point data `displacement` (mesh nodes), empty when absent.
+    displacement: Vec<f64>,
 }
 
 impl Step {
@@ -89,6 +95,15 @@ impl Step {
                 out
             }
         };
+        let displacement = piece
+            .data
+            .point
+            .into_iter()
+            .find_map(|a| match a {
+                Attribute::DataArray(d) if d.name == "displacement" => d.data.cast_into::<f64>(),
+                _ => None,
+            })
+            .unwrap_or_default();
         let arrays = piece
             .data
             .cell
@@ -98,7 +113,7 @@ impl Step {
                 Attribute::Field { name, .. } => panic!("unexpected field data {name}"),
             })
             .collect();
-        Step { points, cells, types: piece.cells.types, arrays }
+        Step { points, cells, types: piece.cells.types, arrays, displacement }
     }
 
     fn array(&self, name: &str) -> &[f64] {
@@ -122,6 +137,8 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
     let pvd = std::fs::read_to_string(dir.join("vtk/scene.pvd")).expect("scene.pvd");
     let bodies = Table::read(&dir.join("bodies.csv")).expect("bodies.csv");
     let contacts = Table::read(&dir.join("contacts.csv")).expect("contacts.csv");
+    let connectors =
+        dir.join("connectors.csv").exists().then(|| Table::read(&dir.join("connectors.csv")).expect("csv"));
     let listed = pvd.matches("<DataSet ").count();
     assert_eq!(listed, written.len(), "scene.pvd lists the written steps:\n{pvd}");
     let mut out = Vec::new();
@@ -132,7 +149,15 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
         assert!(pvd.contains(&entry), "scene.pvd has no entry `{entry}`:\n{pvd}");
         let step = Step::read(&dir.join(format!("vtk/step_{s:06}.vtu")));
         let nb = world.bodies.len();
-        assert_eq!(step.cells.len(), nb + c.len(), "step {s}: one cell per body and per contact");
+        let lines = connectors.as_ref().map_or(0, |t| rows_at(t, s).len());
+        let meshes = world.bodies.iter().filter_map(|b| b.mesh.as_ref());
+        let (triangles, nodes) =
+            meshes.fold((0, 0), |(t, n), fe| (t + fe.triangles.len(), n + fe.nodes.len()));
+        assert_eq!(
+            step.cells.len(),
+            nb + c.len() + lines + triangles,
+            "step {s}: one cell per body, contact, connector and mesh triangle"
+        );
         let body_points: usize = world
             .bodies
             .iter()
@@ -142,7 +167,7 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
                 pbdda::body::Outline::Polygon { vertices, .. } => vertices.len(),
             })
             .sum();
-        assert_eq!(step.points.len(), body_points + 2 * c.len(), "step {s}: points");
+        assert_eq!(step.points.len(), body_points + 2 * (c.len() + lines) + nodes, "step {s}: points");
         for name in [
             "body",
             "kind",
@@ -160,6 +185,23 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
         }
         check_bodies(&step, &bodies, &b, world, s);
         check_contacts(&step, &contacts, &c, nb, s);
+        if let Some(t) = &connectors {
+            // connector lines follow the contacts, in connectors.csv order
+            for (k, row) in rows_at(t, s).iter().enumerate() {
+                let cell = nb + c.len() + k;
+                assert_eq!(step.types[cell], CellType::Line);
+                assert_eq!(
+                    step.array("axial_force")[cell],
+                    num(t, row, "axial_force"),
+                    "step {s} connector {k}"
+                );
+                let state = if row[t.col("state").unwrap()] == "intact" { 4.0 } else { 5.0 };
+                assert_eq!(step.array("state")[cell], state, "step {s} connector {k} state");
+            }
+        }
+        if triangles > 0 {
+            assert_eq!(step.displacement.len(), 3 * step.points.len(), "step {s}: displacement per point");
+        }
         out.push(step);
     }
     out
@@ -287,6 +329,25 @@ fn open_contact_line_spans_the_gap() {
     let gap = num(&contacts, &rows_at(&contacts, 5)[2], "gap");
     assert!((gap - 0.2).abs() < 1e-3, "d1-d2 is the third contact, open by about 0.2 m: {gap}");
     assert_eq!(check_line_ends(&dir, &world, &steps[4], 5, 1e-4), 5);
+}
+
+/// Every scene of `examples/`, 4 steps written every 2nd (steps 2 and 4): the files read back
+/// with the counts of the contract (bodies, contacts, connectors, mesh triangles and nodes), the
+/// arrays of the contract, and the values of the CSVs of the same run (`check_run`).
+#[test]
+fn every_example_time_series_matches_its_csvs() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("examples/")
+        .filter_map(|e| e.ok()?.file_name().into_string().ok())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 21, "{names:?}");
+    for name in &names {
+        let (out, world) = run(name, 4, 2);
+        assert_eq!(check_run(&out, &world, &[2, 4]).len(), 2, "{name}");
+    }
 }
 
 #[test]
