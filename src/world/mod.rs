@@ -15,7 +15,8 @@
 //! ```
 //!
 //! [`World`] holds the state a checkpoint would save (bodies, contact memory, time); the
-//! [`Pipeline`] it carries holds scratch only (the VI workspace and W's assembly storage),
+//! [`Pipeline`] it carries holds scratch only (the VI workspace, W's assembly storage and the
+//! Jacobians of earlier passes),
 //! reused across steps.
 
 use crate::body::{Body, Dofs};
@@ -74,8 +75,15 @@ pub struct TrackedPoint {
 #[derive(Clone, Default)]
 pub struct Pipeline {
     vi: crate::vi::Solver,
-    /// Work storage of W's assembly (`delassus::Scratch`).
-    assembly: crate::delassus::Scratch,
+    /// Work storage of the rows: W's assembly and Jacobians of earlier passes.
+    rows: rows::Scratch,
+}
+
+impl Pipeline {
+    /// Keeps the storage of rows that are no longer needed for the next ones.
+    fn recycle(&mut self, rows: rows::Rows) {
+        self.rows.spare.push(rows.jac);
+    }
 }
 
 /// Simulation state: bodies in their current configuration and the memory of the contacts.
@@ -217,6 +225,10 @@ impl World {
         }
         let records = self.contact_records(&contacts, &solved);
         self.remember(&contacts, &solved);
+        self.pipeline.recycle(solved.rows);
+        if let Some(rows2) = solved.rows2 {
+            self.pipeline.recycle(rows2);
+        }
         warnings.extend(self.penetration_warnings(&contacts, step));
         stages.update = clock.lap();
         Ok(StepRecord {

@@ -30,6 +30,14 @@ impl Linearization {
     }
 }
 
+/// Storage the rows reuse across passes and steps (kept by the world's pipeline).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Scratch {
+    pub assembly: delassus::Scratch,
+    /// Jacobians of rows no longer needed (`Pipeline::recycle`).
+    pub spare: Vec<Jacobian>,
+}
+
 /// The VI's input: B, q = offsets + B d^f, W = B K̃⁻¹ Bᵀ and the per-contact row blocks.
 pub(super) struct Rows {
     pub lin: Vec<Linearization>,
@@ -50,12 +58,12 @@ impl World {
         lin: Vec<Linearization>,
         df: &[f64],
         rigid: impl Fn(usize) -> bool,
-        scratch: &mut delassus::Scratch,
+        scratch: &mut Scratch,
     ) -> Rows {
         let mut blocks: Vec<usize> = contacts.iter().map(|c| c.law.row).collect();
         let total = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
         blocks.push(total);
-        let mut jac = Jacobian::default();
+        let mut jac = scratch.spare.pop().unwrap_or_default();
         jac.reset(total);
         for (k, (c, l)) in contacts.iter().zip(&lin).enumerate() {
             self.push_contact(&mut jac, c, l, rigid(k));
@@ -66,7 +74,13 @@ impl World {
             q[c.law.row] += l.offset;
         }
         let limit = delassus::EXPLICIT_LIMIT;
-        let w = delassus::ContactOperator::with_scratch(&jac, &self.flex, &self.dofs, limit, scratch);
+        let w = delassus::ContactOperator::with_scratch(
+            &jac,
+            &self.flex,
+            &self.dofs,
+            limit,
+            &mut scratch.assembly,
+        );
         Rows { lin, jac, q, w, blocks }
     }
 

@@ -79,10 +79,10 @@ impl Runner<'_> {
         self.times.vi += started.elapsed().as_secs_f64();
     }
 
-    /// Builds rows with the pipeline's assembly storage, timing it.
-    fn rows<T>(&mut self, build: impl FnOnce(&mut crate::delassus::Scratch) -> T) -> T {
+    /// Builds rows with the pipeline's storage, timing it.
+    fn rows<T>(&mut self, build: impl FnOnce(&mut super::rows::Scratch) -> T) -> T {
         let started = Instant::now();
-        let rows = build(&mut self.pipeline.assembly);
+        let rows = build(&mut self.pipeline.rows);
         self.times.rows += started.elapsed().as_secs_f64();
         rows
     }
@@ -127,6 +127,7 @@ impl World {
             if !changed {
                 break (rows, state, next);
             }
+            runner.pipeline.recycle(rows);
             lin = next;
             refinements += 1;
         };
@@ -153,7 +154,7 @@ impl World {
         lin: Vec<Linearization>,
         state: &Classified,
         df: &[f64],
-        scratch: &mut crate::delassus::Scratch,
+        scratch: &mut super::rows::Scratch,
     ) -> Option<Rows> {
         let impacting = |k: usize| state.impacting_rows[contacts[k].law.row];
         let deformable_impact = (0..contacts.len()).any(|k| {
