@@ -316,6 +316,20 @@ impl Body {
         b.transpose() * self.elastic * b * self.moments.area
     }
 
+    /// The body's step matrix K̃ = (1 + 2c) K + (2/dt²) M (math note §1.2, §10.9): the strain
+    /// DOFs carry the numerical damping C = c dt K of §10.9 (c = `damping`, 0 for none).
+    pub fn step_matrix(&self, dt: f64, damping: f64) -> BodyMatrix {
+        self.elastic_stiffness() * (1.0 + 2.0 * damping) + self.mass_matrix() * (2.0 / (dt * dt))
+    }
+
+    /// The damping load C v0 = c dt K v0 of math note §10.9 for the coming step's v0.
+    pub fn damping_load(&self, v0: &Dofs, dt: f64, damping: f64) -> Dofs {
+        if damping == 0.0 || !self.deformable {
+            return Dofs::zeros();
+        }
+        self.elastic_stiffness() * v0 * (damping * dt)
+    }
+
     /// Initial-stress load f_σ = −S Bᵀ σ (math note §2.4; for a particle −2Aσ0).
     pub fn stress_load(&self) -> Dofs {
         -(self.strain_map().transpose() * self.stress) * self.moments.area

@@ -73,6 +73,7 @@ impl Flexibility {
         bodies: &[Body],
         couplings: &[CouplingBlock],
         dt: f64,
+        damping: f64,
     ) -> Result<(), FactorError> {
         let first = self.factors.len() != map.clusters() || self.dt != dt;
         if first {
@@ -92,9 +93,9 @@ impl Flexibility {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
                 let own = couplings.iter().filter(|(i, j, _)| *i == b && *j == b).map(|(_, _, k)| k);
-                Factor::Body(body_flexibility(&bodies[b], own, dt).ok_or_else(failed)?)
+                Factor::Body(body_flexibility(&bodies[b], own, dt, damping).ok_or_else(failed)?)
             } else {
-                let triplets = cluster_triplets(map, c, bodies, couplings, dt);
+                let triplets = cluster_triplets(map, c, bodies, couplings, dt, damping);
                 // reuse the symbolic analysis of the last factor of this cluster
                 let mut sparse = match self.factors.get(c).filter(|_| !first).map(|f| f.as_ref()) {
                     Some(Factor::Sparse(s)) => s.clone(),
@@ -178,9 +179,10 @@ fn body_flexibility<'a>(
     body: &Body,
     own: impl Iterator<Item = &'a nalgebra::DMatrix<f64>>,
     dt: f64,
+    damping: f64,
 ) -> Option<BodyMatrix> {
     let n = body.ndof();
-    let mut k = body.elastic_stiffness() + body.mass_matrix() * (2.0 / (dt * dt));
+    let mut k = body.step_matrix(dt, damping);
     for block in own {
         let mut view = k.view_mut((0, 0), (n, n));
         view += block;
@@ -202,6 +204,7 @@ fn cluster_triplets(
     bodies: &[Body],
     couplings: &[CouplingBlock],
     dt: f64,
+    damping: f64,
 ) -> Vec<(usize, usize, f64)> {
     let base = map.cluster_range(c).start;
     let mut t = Vec::new();
@@ -219,7 +222,7 @@ fn cluster_triplets(
             }
             continue;
         }
-        let k = bodies[b].elastic_stiffness() + bodies[b].mass_matrix() * (2.0 / (dt * dt));
+        let k = bodies[b].step_matrix(dt, damping);
         let r = map.range(b);
         for i in 0..r.len() {
             for j in 0..r.len() {

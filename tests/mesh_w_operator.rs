@@ -82,7 +82,7 @@ fn column(b: &Body, x: Vec2, dir: Vec2, start: usize) -> Vec<(usize, f64)> {
 fn check(bodies: &[Body], contacts: &[(usize, usize, f64, f64)], dt: f64) -> Result<(), TestCaseError> {
     let map = DofMap::new(bodies, &[]);
     let mut flex = Flexibility::new(false);
-    flex.refresh(&map, bodies, &[], dt).expect("K̃ is SPD");
+    flex.refresh(&map, bodies, &[], dt, 0.0).expect("K̃ is SPD");
     let (rows, total) = (2 * contacts.len(), map.total());
     let mut k_dense = DMatrix::<f64>::zeros(total, total);
     for (i, b) in bodies.iter().enumerate() {

@@ -125,7 +125,7 @@ fn check_scene(
         })
         .collect();
     let mut flex = Flexibility::new(sparse_only);
-    flex.refresh(&map, bodies, &couplings, dt).expect("K̃ is SPD");
+    flex.refresh(&map, bodies, &couplings, dt, 0.0).expect("K̃ is SPD");
     let rows = 2 * contacts.len();
     let total = map.total();
     let mut jac = Jacobian::default();

@@ -170,7 +170,7 @@ impl World {
         let (contacts, solved, motion, threshold) = loop {
             let couplings = self.couplings();
             self.flex
-                .refresh(&self.dofs, &self.bodies, &couplings, dt)
+                .refresh(&self.dofs, &self.bodies, &couplings, dt, self.damping())
                 .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
             let df = self.predict(t1);
             stages.predict += clock.lap();
@@ -248,6 +248,12 @@ impl World {
         })
     }
 
+    /// The strain DOFs' numerical damping c of math note §10.9: on in dynamic runs, off in
+    /// static relaxation (velocity carry 0), which discards the velocities it acts on.
+    fn damping(&self) -> f64 {
+        if self.model.physics.velocity_carry > 0.0 { STRAIN_DAMPING } else { 0.0 }
+    }
+
     /// The scene's time step (a step may run as shorter trials: `adaptive.rs`).
     pub fn dt(&self) -> f64 {
         self.model.time.step
@@ -276,6 +282,10 @@ impl World {
         ContactBounds { laws, share_cohesion: self.settings.share_cohesion }
     }
 }
+
+/// c of math note §10.9: the damping C = c dt K of the strain DOFs; a stiff strain mode's
+/// velocity is multiplied by −1/(1 + 2c) = −0.2 per step (spectral radius at ω dt → ∞).
+pub const STRAIN_DAMPING: f64 = 2.0;
 
 /// Stage timer: seconds since the last lap.
 struct Clock(Instant);

@@ -16,7 +16,10 @@ impl World {
             .bodies
             .iter()
             .map(|b| {
-                let mut fb = b.mass_matrix() * self.v0(b) * (2.0 / dt) + b.stress_load();
+                let v0 = self.v0(b);
+                let mut fb = b.mass_matrix() * v0 * (2.0 / dt)
+                    + b.stress_load()
+                    + b.damping_load(&v0, dt, self.damping());
                 // body force, centroid reference (math note §2.4)
                 fb[0] += b.mass * g.x;
                 fb[1] += b.mass * g.y;
