@@ -15,8 +15,8 @@
 //! ```
 //!
 //! [`World`] holds the state a checkpoint would save (bodies, contact memory, time); the
-//! [`Pipeline`] it carries holds scratch only (the VI workspace, W's assembly storage and the
-//! Jacobians of earlier passes),
+//! [`Pipeline`] it carries holds scratch only (the VI workspace, W's assembly storage, the
+//! Jacobians of earlier passes and the refinement's shape buffers),
 //! reused across steps.
 
 use crate::body::{Body, Dofs};
@@ -77,6 +77,8 @@ pub struct Pipeline {
     vi: crate::vi::Solver,
     /// Work storage of the rows: W's assembly and Jacobians of earlier passes.
     rows: rows::Scratch,
+    /// The refinement's shape buffers.
+    shapes: refine::Shapes,
 }
 
 impl Pipeline {

@@ -19,6 +19,17 @@ use crate::body::Dofs;
 use crate::contact::{BodyShape, ContactGeom, ContactKey};
 use crate::geometry::Vec2;
 
+/// The refinement's shape buffers, kept by the world's pipeline across passes and steps.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Shapes {
+    /// Per body, its shape half-way through and at the end of the trial increment (watched
+    /// bodies only).
+    mid: Vec<Option<BodyShape>>,
+    end: Vec<Option<BodyShape>>,
+    /// Narrow-phase output of one pair.
+    found: Vec<ContactGeom>,
+}
+
 impl World {
     /// New linearizations from the trial increment `dbar` (a global DOF vector), and whether
     /// any contact changed by more than 1e-9 d0 (in gap terms).
@@ -28,6 +39,7 @@ impl World {
         lin: &[Linearization],
         dbar: &[f64],
         state: &Classified,
+        shapes: &mut Shapes,
     ) -> (Vec<Linearization>, bool) {
         let near = 0.1 * self.threshold;
         let watched: Vec<usize> = (0..contacts.len())
@@ -40,9 +52,11 @@ impl World {
             })
             .collect();
         let full = |b: usize| self.dofs.gather(dbar, b);
-        // the watched bodies' shapes half-way and at the end of the trial increment
-        let (mut mid, mut end): (Vec<Option<BodyShape>>, Vec<Option<BodyShape>>) =
-            (vec![None; self.bodies.len()], vec![None; self.bodies.len()]);
+        let Shapes { mid, end, found } = shapes;
+        for v in [&mut *mid, &mut *end] {
+            v.clear();
+            v.resize(self.bodies.len(), None);
+        }
         for &k in &watched {
             for b in [contacts[k].geom.a, contacts[k].geom.b] {
                 if mid[b].is_none() {
@@ -53,7 +67,6 @@ impl World {
         }
         let mut next = lin.to_vec();
         let mut changed = false;
-        let mut found = Vec::new();
         for k in watched {
             let c = &contacts[k];
             let (a, b) = (c.geom.a, c.geom.b);
@@ -61,8 +74,8 @@ impl World {
                 continue;
             };
             let (Some(m), Some(e)) = (
-                self.same_contact(c.geom.key, ma, mb, a, b, &mut found),
-                self.same_contact(c.geom.key, ea, eb, a, b, &mut found),
+                self.same_contact(c.geom.key, ma, mb, a, b, found),
+                self.same_contact(c.geom.key, ea, eb, a, b, found),
             ) else {
                 continue;
             };

@@ -123,7 +123,8 @@ impl World {
                 break (rows, state, last);
             }
             let dbar = self.geometry_increment(&rows, df, &z1, &state.impacting_rows);
-            let (next, changed) = self.refine(contacts, &rows.lin, &dbar, &state);
+            let (next, changed) =
+                self.refine(contacts, &rows.lin, &dbar, &state, &mut runner.pipeline.shapes);
             if !changed {
                 break (rows, state, next);
             }
