@@ -167,37 +167,8 @@ impl World {
         let step = self.step_index + 1;
         let mut events = Vec::new();
         self.h = dt;
-        // a connector or cemented joint that breaks changes the system: the step is solved again
-        // without it (§6, §10.8)
-        let (contacts, solved, motion, threshold) = loop {
-            let couplings = self.couplings();
-            self.flex
-                .refresh(&self.dofs, &self.bodies, &couplings, dt, self.damping())
-                .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
-            let df = self.predict(t1);
-            stages.predict += clock.lap();
-            let (contacts, threshold) = self.detect(&df);
-            stages.detect += clock.lap();
-            let mut pipeline = std::mem::take(&mut self.pipeline);
-            let solved = self.solve(&contacts, &df, &mut pipeline);
-            self.pipeline = pipeline;
-            stages.rows += solved.times.rows;
-            stages.vi += solved.times.vi;
-            stages.refine += clock.lap() - solved.times.rows - solved.times.vi;
-            let motion = self.motion(&df, &solved);
-            self.check_finite(&motion)?;
-            let joints = self.breakage(&solved);
-            if joints.contains(&true) {
-                events.extend(self.breakage_events(&contacts, &joints, step));
-                continue;
-            }
-            let broke = self.break_connectors(&motion.dbar, step);
-            if broke.is_empty() {
-                break (contacts, solved, motion, threshold);
-            }
-            events.extend(broke);
-            self.renumber();
-        };
+        let (contacts, solved, motion, threshold) =
+            self.stages(dt, t1, &mut clock, &mut stages, &mut events)?;
         let r = &solved.report;
         if !r.converged && !self.model.solver.allow_unconverged {
             let (residual, iterations) = (r.residual, r.inner_iterations);
@@ -248,6 +219,48 @@ impl World {
             warnings,
             events,
         })
+    }
+
+    /// Stages 0–4 and the motion of a trial. A connector or cemented joint that breaks changes
+    /// the system: the step is solved again without it (§6, §10.8), its event in `events`.
+    fn stages(
+        &mut self,
+        dt: f64,
+        t1: f64,
+        clock: &mut Clock,
+        stages: &mut StageTimes,
+        events: &mut Vec<Event>,
+    ) -> Result<(Vec<detect::Contact>, solve::Solved, update::Motion, f64), adaptive::Failure> {
+        let step = self.step_index + 1;
+        loop {
+            let couplings = self.couplings();
+            self.flex
+                .refresh(&self.dofs, &self.bodies, &couplings, dt, self.damping())
+                .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
+            let df = self.predict(t1);
+            stages.predict += clock.lap();
+            let (contacts, threshold) = self.detect(&df);
+            stages.detect += clock.lap();
+            let mut pipeline = std::mem::take(&mut self.pipeline);
+            let solved = self.solve(&contacts, &df, &mut pipeline);
+            self.pipeline = pipeline;
+            stages.rows += solved.times.rows;
+            stages.vi += solved.times.vi;
+            stages.refine += clock.lap() - solved.times.rows - solved.times.vi;
+            let motion = self.motion(&df, &solved);
+            self.check_finite(&motion)?;
+            let joints = self.breakage(&solved);
+            if joints.contains(&true) {
+                events.extend(self.breakage_events(&contacts, &joints, step));
+                continue;
+            }
+            let broke = self.break_connectors(&motion.dbar, step);
+            if broke.is_empty() {
+                return Ok((contacts, solved, motion, threshold));
+            }
+            events.extend(broke);
+            self.renumber();
+        }
     }
 
     /// The strain DOFs' numerical damping c of math note §10.9: on in dynamic runs, off in
