@@ -56,7 +56,7 @@ pub const EXPLICIT_LIMIT: usize = 20_000_000;
 
 /// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit.
 pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> {
-    assemble_with(jac, flex, map, usize::MAX, &mut Scratch::default()).explicit
+    ContactOperator::with_scratch(jac, flex, map, usize::MAX, &mut Scratch::default()).explicit
 }
 
 /// W of one step as the VI sees it: the explicit CSR part, plus the clusters kept in operator form.
@@ -76,7 +76,7 @@ struct FactoredCluster {
 impl ContactOperator {
     /// W with every cluster explicit below `limit` numbers and in operator form above it.
     pub fn new(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
-        assemble_with(jac, flex, map, limit, &mut Scratch::default())
+        Self::with_scratch(jac, flex, map, limit, &mut Scratch::default())
     }
 
     /// [`Self::new`] with the work storage of earlier steps.
@@ -87,7 +87,23 @@ impl ContactOperator {
         limit: usize,
         scratch: &mut Scratch,
     ) -> ContactOperator {
-        assemble_with(jac, flex, map, limit, scratch)
+        let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
+            .iter()
+            .enumerate()
+            .map(|(c, &rows)| {
+                let n = map.cluster_range(c).len();
+                rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
+            })
+            .collect();
+        let mut diagonal = vec![0.0; jac.rows];
+        let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
+        scratch.places(jac, map, &factored_clusters);
+        scratch.columns(jac, flex, map);
+        let explicit = scratch.csr(jac, map);
+        for (r, d) in diagonal.iter_mut().enumerate() {
+            *d += explicit.get(r, r).copied().unwrap_or(0.0);
+        }
+        ContactOperator { explicit, factored, diagonal }
     }
 
     /// Whether some cluster is in operator form.
@@ -124,32 +140,6 @@ impl Operator for ContactOperator {
     fn as_csr(&self) -> Option<sprs::CsMatView<'_, f64>> {
         self.factored.is_empty().then(|| self.explicit.view())
     }
-}
-
-fn assemble_with(
-    jac: &Jacobian,
-    flex: &Flexibility,
-    map: &DofMap,
-    limit: usize,
-    scratch: &mut Scratch,
-) -> ContactOperator {
-    let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
-        .iter()
-        .enumerate()
-        .map(|(c, &rows)| {
-            let n = map.cluster_range(c).len();
-            rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
-        })
-        .collect();
-    let mut diagonal = vec![0.0; jac.rows];
-    let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
-    scratch.places(jac, map, &factored_clusters);
-    scratch.columns(jac, flex, map);
-    let explicit = scratch.csr(jac, map);
-    for (r, d) in diagonal.iter_mut().enumerate() {
-        *d += explicit.get(r, r).copied().unwrap_or(0.0);
-    }
-    ContactOperator { explicit, factored, diagonal }
 }
 
 /// Rows of B touching each cluster (a row with two segments on one cluster counts twice: an

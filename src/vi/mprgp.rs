@@ -21,7 +21,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::Status;
-use super::pc::{Ctx, State, Vectors, clip, sweep, unscale};
+use super::pc::{Ctx, State, Vectors, clip, stop, sweep, unscale};
 use super::scaling::Rows;
 
 /// Proportioning constant Γ (Dostál's usual choice).
@@ -142,14 +142,8 @@ pub(super) fn run<R: Rows>(
     let mut cg = false; // p is a CG direction (else it is reset to φ)
     loop {
         let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
-        if st.znorm > limit {
-            return Err(Status::Diverged);
-        }
-        if st.res <= inner_tol {
-            return Ok(());
-        }
-        if st.inner >= max_iterations {
-            return Err(Status::IterationLimit);
+        if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+            return end;
         }
         st.inner += 1;
         let proportional = bb <= GAMMA * GAMMA * ff;

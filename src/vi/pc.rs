@@ -216,6 +216,25 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
     pt.s2.is_finite() && pt.s0.is_finite()
 }
 
+/// Where an inner run stops, from the state last measured: divergence (|z| beyond `limit`),
+/// the tolerance met, or the iteration budget used (shared by PC and MPRGP).
+pub(super) fn stop(
+    st: &State,
+    inner_tol: f64,
+    limit: f64,
+    max_iterations: usize,
+) -> Option<Result<(), Status>> {
+    if st.znorm > limit {
+        Some(Err(Status::Diverged))
+    } else if st.res <= inner_tol {
+        Some(Ok(()))
+    } else if st.inner >= max_iterations {
+        Some(Err(Status::IterationLimit))
+    } else {
+        None
+    }
+}
+
 /// One PC run (math note §4.2) down to `inner_tol`. Invariant at the loop head: the sweep
 /// over y is fresh (wy = Ŵy, yt = P[y − beta F(y)], ee = ||y − yt||², res, znorm).
 /// `Ok` when the tolerance is met; `Err` with the reason to stop the whole solve otherwise.
@@ -228,14 +247,8 @@ pub(super) fn run<R: Rows>(
     max_iterations: usize,
 ) -> Result<(), Status> {
     loop {
-        if st.znorm > limit {
-            return Err(Status::Diverged);
-        }
-        if st.res <= inner_tol {
-            return Ok(());
-        }
-        if st.inner >= max_iterations {
-            return Err(Status::IterationLimit);
+        if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+            return end;
         }
         let (r, edf, dfdf) = predictor(c, v, st)?;
         correct(c, v, st, edf, dfdf);
