@@ -119,8 +119,10 @@ impl Operator for ContactOperator {
 
     fn apply(&self, z: &[f64], out: &mut [f64]) {
         self.explicit.apply(z, out);
+        let mut t = Vec::with_capacity(self.factored.iter().map(|f| f.n).max().unwrap_or(0));
         for f in &self.factored {
-            let mut t = vec![0.0; f.n];
+            t.clear();
+            t.resize(f.n, 0.0);
             for s in &f.segments {
                 for i in 0..s.len {
                     t[s.start + i] += s.vals[i] * z[s.row];

@@ -155,9 +155,16 @@ fn check(name: &str, model: Model, steps: usize, threads: &[usize]) -> StepRecor
 fn settling_scene_is_bit_reproducible() {
     let model = settling();
     assert!(model.bodies.iter().any(|b| b.model == pbdda::model::BodyModel::Deformable));
-    let rec = check("settling", model, 200, &[1, 1, 2]);
-    // the scene must exercise contacts: the pieces have landed and rest on each other
-    assert!(rec.contacts.iter().any(|c| c.normal_force > 0.0), "no loaded contact after 200 steps");
+    check("settling", model.clone(), 200, &[1, 1, 2]);
+    // the scene must exercise contacts: the pieces land and load each other in the last ten
+    // steps (the last record alone may be a short split trial in flight)
+    let mut world = World::new(model);
+    let loaded: usize = (0..200)
+        .map(|_| world.step().unwrap_or_else(|e| panic!("{e}")))
+        .skip(190)
+        .map(|rec| rec.contacts.iter().filter(|c| c.normal_force > 0.0).count())
+        .sum();
+    assert!(loaded > 0, "no loaded contact in steps 191-200");
 }
 
 #[test]

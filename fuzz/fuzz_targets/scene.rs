@@ -1,16 +1,21 @@
 //! Fuzz target: the scene reader must return `Ok` or a `SceneError`, never panic or hang,
-//! whatever the bytes (invalid UTF-8 included, as `scene::load` would see them).
+//! whatever the bytes (invalid UTF-8 included, as `scene::load` would see them). A scene it
+//! accepts must also build a world and take its first step without a panic (an error is fine):
+//! bounded to small scenes and a capped solver so that one input stays well under a second.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    match std::str::from_utf8(data) {
-        Ok(text) => {
-            let _ = pbdda::scene::parse(text, "fuzz.toml");
-        }
-        Err(_) => {
-            let _ = pbdda::scene::parse_bytes(data, "fuzz.toml");
+    let parsed = match std::str::from_utf8(data) {
+        Ok(text) => pbdda::scene::parse(text, "fuzz.toml"),
+        Err(_) => pbdda::scene::parse_bytes(data, "fuzz.toml"),
+    };
+    if let Ok(mut model) = parsed {
+        if model.bodies.len() <= 12 && model.connectors.len() <= 12 {
+            model.solver.max_iterations = model.solver.max_iterations.min(500);
+            model.time.max_halvings = model.time.max_halvings.min(2);
+            let _ = pbdda::world::World::new(model).step();
         }
     }
 });

@@ -35,7 +35,9 @@
 //!   `res = ||z − P_Ω[z − D⁻¹ G(z)]||_inf / max(1, ||z||_inf)`, `D = diag(W)`. It is the
 //!   inner stopping test (except for the inexact passes above) and the reported value. It is
 //!   evaluated on the unscaled iterate (`z = D^{-1/2} y`, `D⁻¹ G = D^{-1/2} Ĝ`) inside each
-//!   sweep, so the reported residual is that of the returned `z`.
+//!   sweep, so the reported residual is that of the returned `z`. With
+//!   [`Options::gap_tolerance`] it also measures every row in gap units (math note §4.9,
+//!   `measure.rs`), so a light body's contact is solved next to forces 1e12 times larger.
 //! * **Zero diagonals.** A row with `W_jj <= 0` (or non-finite) uses `D_jj = 1` in the
 //!   residual and in the Jacobi scaling. For a PSD W, `W_jj = 0` forces the whole row and
 //!   column to vanish, so `G_j = q_j` is constant: such a row has a solution only if the bound
@@ -83,7 +85,8 @@
 //! NaN, when the input is inconsistent ([`Status::InvalidInput`]), or when the iterates
 //! diverge. Divergence test: for a solvable problem the PC iterates are Fejér-monotone (math
 //! note §4.2), hence bounded; they are declared divergent when `||z||_inf` exceeds
-//! `growth * S`, `S = max(1, ||D⁻¹q||_inf, ||z_start||_inf, max|finite bound|)`,
+//! `growth * S`, `S = max(1, ||D⁻¹q||_inf, ||z_start||_inf, max|finite bound|,
+//! Options::force_scale)` (the last one: math note §4.9),
 //! `growth = clamp(1e-2 / tolerance, 1e4, 1e8)`. The residual is relative to `||z||`, so a
 //! ray `z = t d` with `W d = 0`, `qᵀd < 0` (e.g. a particle jammed between two walls closer
 //! than its diameter) would eventually pass the residual test; the growth test fires first
@@ -101,6 +104,7 @@
 //! not checked (PC only needs monotonicity of G).
 
 mod local;
+mod measure;
 mod method;
 mod mprgp;
 mod nsgs;
@@ -207,11 +211,26 @@ pub struct Options {
     pub max_outer: usize,
     /// Jacobi scaling z = D^{-1/2} y (math note §4.2).
     pub jacobi: bool,
+    /// Accuracy asked of every row's gap G_i, in the units of G (math note §4.9): the
+    /// residual also measures each row in gap units against it, so a light body's contact is
+    /// solved even when other contacts carry forces 1e12 times larger. `f64::INFINITY`
+    /// (default) leaves the force part alone.
+    pub gap_tolerance: f64,
+    /// A force the solution may legitimately reach (e.g. the weight and momentum of all the
+    /// bodies the contacts carry); the divergence test's scale S includes it (default 0).
+    pub force_scale: f64,
 }
 
 impl Default for Options {
     fn default() -> Self {
-        Self { tolerance: 1e-8, max_iterations: 200_000, max_outer: 50, jacobi: true }
+        Self {
+            tolerance: 1e-8,
+            max_iterations: 200_000,
+            max_outer: 50,
+            jacobi: true,
+            gap_tolerance: f64::INFINITY,
+            force_scale: 0.0,
+        }
     }
 }
 
@@ -481,20 +500,21 @@ impl Solver {
             q: p.q,
             opts,
             inexact: if self.inexact.is_finite() { self.inexact.max(0.0) } else { 0.0 },
-            dq,
+            dq: dq.max(opts.force_scale),
         };
         let mut st = pc::State::new(beta0);
         let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
         let correction = self.correction;
+        let measure = measure::Measure::new(opts);
         let v = &mut self.vectors;
         let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
             let gershgorin = mprgp.then(|| rows.abs_row_sum_max());
-            let c = pc::Ctx::new(rows, s, par, correction);
+            let c = pc::Ctx::new(rows, s, par, correction, measure);
             outer_run(c, &pass, v, &mut st, z, gershgorin, mprgp)
         } else {
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(pc::Ctx::new(rows, s, par, correction), &pass, v, &mut st, z, None, mprgp)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, None, mprgp)
         };
         self.stats = st.stats;
         report

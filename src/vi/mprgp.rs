@@ -21,6 +21,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::Status;
+use super::measure::Measure;
 use super::pc::{Ctx, State, Vectors, clip, stop, sweep, unscale};
 use super::scaling::Rows;
 
@@ -57,12 +58,14 @@ fn chopped(y: f64, lo: f64, hi: f64, g: f64) -> f64 {
 /// The state of y: residual (math note §4.3, as PC reports it) and ||z||_inf into `st`;
 /// returns (βᵀβ, φ̃ᵀφ) for the proportioning test, or None on a NaN.
 fn measure<R: Rows>(c: &Ctx<R>, v: &Vectors, st: &mut State, abar: f64) -> Option<(f64, f64)> {
-    let (mut res, mut zn, mut bb, mut ff, mut bad) = (0.0f64, 0.0f64, 0.0, 0.0, 0.0);
+    let (mut res, mut gap, mut zn, mut bb, mut ff, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0, 0.0, 0.0);
     for i in 0..v.y.len() {
         let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
         let g = c.qs[i] + v.wy[i];
         let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
-        res = res.max((z - clip(z - c.gs[i] * g, v.lo[i], v.hi[i])).abs());
+        let (r, rg) = c.measure.row(z, c.gs[i] * g, v.lo[i], v.hi[i], c.dd[i]);
+        res = res.max(r);
+        gap = gap.max(rg);
         zn = zn.max(z.abs());
         let b = chopped(y, lo, hi, g);
         bb += b * b;
@@ -72,7 +75,7 @@ fn measure<R: Rows>(c: &Ctx<R>, v: &Vectors, st: &mut State, abar: f64) -> Optio
         ff += fr * f;
         bad += y * 0.0 + g * 0.0;
     }
-    st.res = res / zn.max(1.0);
+    st.res = Measure::combine(res, gap, zn);
     st.znorm = zn;
     st.fresh = true;
     st.last_infeasible = false;

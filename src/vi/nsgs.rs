@@ -9,6 +9,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::local::{Local, MAX};
+use super::measure::Measure;
 use super::{BoundRule, Options, Stats, Status};
 use sprs::CsMatView;
 
@@ -78,13 +79,14 @@ impl Work {
         // ray of an unbounded problem; PC from the warm start then reports it.
         let tol = opts.tolerance;
         let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
-        let limit = growth * self.start_scale(indptr, cols, vals, q, z);
+        let limit = growth * self.start_scale(indptr, cols, vals, q, z).max(opts.force_scale);
+        let measure = Measure::new(opts);
         let (mut ref_res, mut ref_at) = (f64::INFINITY, 0usize);
         let mut sweeps = 0;
         loop {
             if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
                 stats.products += 1;
-                let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z);
+                let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z, measure);
                 if !res.is_finite() || zn > limit {
                     z.copy_from_slice(&self.z0);
                     return End::Fallback { sweeps };
@@ -193,9 +195,10 @@ impl Work {
         blocks: &[usize],
         rule: &dyn BoundRule,
         z: &[f64],
+        measure: Measure,
     ) -> (f64, f64) {
         rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
-        let (mut r, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0);
+        let (mut r, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
         for b in blocks.windows(2) {
             for i in b[0]..b[1] {
                 let (mut g, mut d) = (q[i], 0.0);
@@ -210,12 +213,14 @@ impl Work {
                     return (f64::INFINITY, 0.0);
                 }
                 let zi = z[i];
-                r = r.max((zi - (zi - g / d).max(l).min(h)).abs());
+                let (ri, rg) = measure.row(zi, g / d, l, h, d);
+                r = r.max(ri);
+                gap = gap.max(rg);
                 zn = zn.max(zi.abs());
                 bad += zi * 0.0 + g * 0.0;
             }
         }
-        if bad.is_finite() { (r / zn.max(1.0), zn) } else { (f64::INFINITY, zn) }
+        if bad.is_finite() { (Measure::combine(r, gap, zn), zn) } else { (f64::INFINITY, zn) }
     }
 
     /// S = max(1, ||D⁻¹q||_inf, ||z_start||_inf) of the growth test.

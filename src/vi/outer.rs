@@ -15,7 +15,7 @@ pub(super) struct Pass<'a> {
     pub opts: &'a Options,
     /// Inner accuracy factor of the passes after the first (`Solver::inexact`, sanitized).
     pub inexact: f64,
-    /// max(1, ||D⁻¹q||_inf).
+    /// max(1, ||D⁻¹q||_inf, Options::force_scale): the divergence test's scale.
     pub dq: f64,
 }
 

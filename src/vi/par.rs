@@ -7,7 +7,7 @@ use rayon::prelude::*;
 /// Rows per block of every sweep.
 pub(super) const BLOCK: usize = 2048;
 
-/// Per-block results of a sweep: three sums and two maxima.
+/// Per-block results of a sweep: three sums and three maxima.
 #[derive(Debug, Clone, Copy, Default)]
 pub(super) struct Partial {
     pub s0: f64,
@@ -15,6 +15,7 @@ pub(super) struct Partial {
     pub s2: f64,
     pub m0: f64,
     pub m1: f64,
+    pub m2: f64,
 }
 
 /// Combines the blocks' partials in block order.
@@ -25,6 +26,7 @@ pub(super) fn reduce(parts: &[Partial]) -> Partial {
         s2: acc.s2 + p.s2,
         m0: acc.m0.max(p.m0),
         m1: acc.m1.max(p.m1),
+        m2: acc.m2.max(p.m2),
     })
 }
 

@@ -1,6 +1,7 @@
 //! The inner solver: self-adaptive projection-contraction (math note §4.2) on the scaled
 //! variables y = D^{1/2} z, with the fused sweeps that carry its products.
 
+use super::measure::Measure;
 use super::par::{self, BLOCK, Partial};
 use super::scaling::{Rows, Scaling};
 use super::{Correction, Stats, Status};
@@ -23,6 +24,9 @@ pub(super) struct Ctx<'a, R: Rows> {
     pub sc: &'a [f64],
     pub gs: &'a [f64],
     pub qs: &'a [f64],
+    /// D (guarded), for the gap part of the residual.
+    pub dd: &'a [f64],
+    pub measure: Measure,
     /// Rows of W that are entirely zero.
     pub zero_rows: &'a [usize],
     /// Inner solver of the passes: PC, or MPRGP with its step length ᾱ (`mprgp.rs`).
@@ -30,7 +34,7 @@ pub(super) struct Ctx<'a, R: Rows> {
 }
 
 impl<'a, R: Rows> Ctx<'a, R> {
-    pub fn new(rows: R, s: &'a Scaling, par: bool, correction: Correction) -> Self {
+    pub fn new(rows: R, s: &'a Scaling, par: bool, correction: Correction, measure: Measure) -> Self {
         Ctx {
             rows,
             par,
@@ -39,6 +43,8 @@ impl<'a, R: Rows> Ctx<'a, R> {
             sc: &s.sc,
             gs: &s.gs,
             qs: &s.qs,
+            dd: &s.dd,
+            measure,
             zero_rows: &s.zero_rows,
             mprgp: None,
         }
@@ -181,7 +187,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
     st.stats.products += 1;
     let Vectors { y, wy, yt, lo, hi, ylo, yhi, tmp, parts, .. } = v;
     c.rows.prepare(y, wy, tmp);
-    let (sc, gs, qs, beta) = (c.sc, c.gs, c.qs, st.beta);
+    let (sc, gs, qs, dd, beta) = (c.sc, c.gs, c.qs, c.dd, st.beta);
     let pt = par::run2(c.par, wy, yt, parts, |r0, wo, to| {
         let mut pt = Partial::default();
         let mut bad = 0.0;
@@ -192,7 +198,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
             *wk = w;
             let f = qs[i] + w;
             let zi = unscale(yi, ylo[i], yhi[i], lo[i], hi[i], sc[i]);
-            let r = (zi - clip(zi - gs[i] * f, lo[i], hi[i])).abs();
+            let (r, rg) = c.measure.row(zi, gs[i] * f, lo[i], hi[i], dd[i]);
             let t = clip(yi - beta * f, ylo[i], yhi[i]);
             *tk = t;
             let e = yi - t;
@@ -202,6 +208,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
             pt.s1 = pt.s1.max((ylo[i] - yi).max(yi - yhi[i]));
             pt.m0 = pt.m0.max(r);
             pt.m1 = pt.m1.max(zi.abs());
+            pt.m2 = pt.m2.max(rg);
             // NaN/inf detector: `clip` and `max` would swallow a NaN.
             bad += yi * 0.0 + f * 0.0;
         }
@@ -210,7 +217,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
     });
     st.fresh = true;
     st.last_infeasible = pt.s1 > 0.0;
-    st.res = pt.m0 / pt.m1.max(1.0);
+    st.res = Measure::combine(pt.m0, pt.m2, pt.m1);
     st.znorm = pt.m1;
     st.ee = pt.s0;
     pt.s2.is_finite() && pt.s0.is_finite()

@@ -25,12 +25,14 @@ pub(super) struct Scaling {
     pub gs: Vec<f64>,
     /// q̂ = sc q.
     pub qs: Vec<f64>,
+    /// D (guarded as above), for the gap part of the residual.
+    pub dd: Vec<f64>,
     pub zero_rows: Vec<usize>,
 }
 
 impl Scaling {
     fn resize(&mut self, n: usize) {
-        for v in [&mut self.sd, &mut self.sc, &mut self.gs, &mut self.qs] {
+        for v in [&mut self.sd, &mut self.sc, &mut self.gs, &mut self.qs, &mut self.dd] {
             v.clear();
             v.resize(n, 0.0);
         }
@@ -47,6 +49,7 @@ impl Scaling {
         self.sd[i] = sd;
         self.sc[i] = sc;
         self.gs[i] = if jacobi { sc } else { 1.0 / d };
+        self.dd[i] = d;
     }
 
     /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column

@@ -517,3 +517,27 @@ fn nsgs_exact_on_diagonal_w() {
         assert!((zj - 1.0 / (j + 1) as f64).abs() < 1e-14, "{z:?}");
     }
 }
+
+/// The gap part of the residual (math note §4.9). Two independent normal rows: a heavy
+/// contact, W = 1e-19 m/N with q = −5e-4 m (solution 5e15 N), and a light one, W = 1e-7 m/N
+/// with q = −5e-4 m (solution 5e3 N). From the heavy force and nothing on the light row, the
+/// light row's natural residual 5e3 N is 1e-12 of ‖z‖∞: the force part alone calls it solved,
+/// with the light row's gap 5e-4 m open. With a gap tolerance of 1e-9 m every method solves the
+/// light row too: its force to within 1e-9 m / 1e-7 m/N = 0.01 N (checked at 0.01 N), for each
+/// method.
+#[test]
+fn gap_part_sees_light_rows_next_to_heavy_ones() {
+    let w = csr(2, &[1e-19, 0.0, 0.0, 1e-7]);
+    let q = [-5e-4, -5e-4];
+    let rule = FixedBounds { lo: vec![0.0; 2], hi: vec![INF; 2] };
+    for method in [Method::Pc, Method::Nsgs, Method::Mprgp] {
+        let mut solver = Solver::new().with_method(method);
+        let forces_only = Options { tolerance: 1e-6, ..Options::default() };
+        let mut z = vec![5e15, 0.0];
+        let rep = solver.solve(&Problem { w: &w, q: &q, blocks: &singles(2) }, &rule, &mut z, &forces_only);
+        assert!(rep.converged && z[1] == 0.0, "{method:?}: {rep:?} {z:?}");
+        let with_gaps = Options { gap_tolerance: 1e-9, ..forces_only };
+        let rep = solver.solve(&Problem { w: &w, q: &q, blocks: &singles(2) }, &rule, &mut z, &with_gaps);
+        assert!(rep.converged && (z[1] - 5e3).abs() <= 0.01, "{method:?}: {rep:?} {z:?}");
+    }
+}

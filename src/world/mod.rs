@@ -99,6 +99,9 @@ pub struct World {
     pub time: f64,
     /// d0 of the scene (math note §5), before any per-step enlargement.
     pub threshold: f64,
+    /// The smallest feature of the scene (particle radius, edge length) [m]; the solver's
+    /// gaps are asked to be right to `tolerance` times it (math note §4.9).
+    pub feature: f64,
     pub load_points: Vec<TrackedPoint>,
     pub monitors: Vec<TrackedPoint>,
     /// Bolts, springs and beams, in their state at the step start (broken ones included).
@@ -132,7 +135,10 @@ impl World {
         let track = |body: usize, p: Vec2| TrackedPoint { body, initial: p, current: p };
         let load_points = model.loads.iter().map(|l| track(l.body, l.point)).collect();
         let monitors = model.monitors.iter().map(|m| track(m.body, m.point)).collect();
-        let threshold = model.contact.threshold.unwrap_or_else(|| default_threshold(&bodies));
+        let feature = smallest_feature(&bodies);
+        // Default d0: a tenth of the smallest feature, so that feature tests stay unambiguous
+        // (math note §5); enlarged per step when motion needs it.
+        let threshold = model.contact.threshold.unwrap_or(0.1 * feature);
         let connectors: Vec<Connector> = model.connectors.iter().map(Connector::from_spec).collect();
         let mut world = World {
             model,
@@ -141,6 +147,7 @@ impl World {
             step_index: 0,
             time: 0.0,
             threshold,
+            feature,
             load_points,
             monitors,
             connectors,
@@ -314,8 +321,7 @@ impl Clock {
     }
 }
 
-/// Default d0: a tenth of the smallest feature (particle radius, edge length), so that
-/// feature tests stay unambiguous (math note §5); enlarged per step when motion needs it.
-pub fn default_threshold(bodies: &[Body]) -> f64 {
-    0.1 * bodies.iter().map(Body::feature_size).fold(f64::INFINITY, f64::min)
+/// The smallest feature (particle radius, ring width, edge length) of the bodies.
+pub fn smallest_feature(bodies: &[Body]) -> f64 {
+    bodies.iter().map(Body::feature_size).fold(f64::INFINITY, f64::min)
 }

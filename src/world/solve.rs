@@ -89,6 +89,23 @@ impl Runner<'_> {
 }
 
 impl World {
+    /// A force the contacts may legitimately carry this step, for the solver's divergence test
+    /// (math note §4.9): the weight, applied loads and momentum per step of every free body.
+    fn force_scale(&self) -> f64 {
+        let g = self.model.physics.gravity.norm();
+        let h = self.h;
+        let bodies: f64 = (self.bodies.iter().filter(|b| !b.fixed))
+            .map(|b| {
+                let v = b.velocity.as_slice();
+                let speed = v[0].hypot(v[1]) + v[2].abs() * b.reach;
+                b.mass * (g + 2.0 * speed / h)
+            })
+            .sum();
+        let t = self.time + h;
+        let loads: f64 = self.model.loads.iter().map(|l| l.force.norm() * l.factor(t).abs()).sum();
+        bodies + loads
+    }
+
     /// Solve 1 with g0 in the gaps (geometry), refined on the mid-step configuration; then
     /// solve 2 with g0 dropped for the contacts closed in solve 1 (velocity), skipped when
     /// those g0 are all zero to within the allowance (math note §1.3 a, d; §10.5).
@@ -98,6 +115,8 @@ impl World {
             max_iterations: self.model.solver.max_iterations,
             max_outer: 50,
             jacobi: self.settings.jacobi,
+            gap_tolerance: self.model.solver.tolerance * self.feature,
+            force_scale: self.force_scale(),
         };
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
         let report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };

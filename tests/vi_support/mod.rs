@@ -211,7 +211,7 @@ pub fn face_condition(w: &DMatrix<f64>, c: &Constructed) -> f64 {
 }
 
 pub fn opts(tol: f64, jacobi: bool) -> Options {
-    Options { tolerance: tol, max_iterations: 2_000_000, max_outer: 50, jacobi }
+    Options { tolerance: tol, max_iterations: 2_000_000, max_outer: 50, jacobi, ..Options::default() }
 }
 
 /// ||W||_inf (max absolute row sum).

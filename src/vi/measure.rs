@@ -1,0 +1,53 @@
+//! The convergence measure (math note §4.3, §4.9): the scaled natural residual in force units,
+//! and, when the caller gives a gap tolerance, the same residual in gap units.
+//!
+//! Row i's natural residual is `r_i = |z_i − P[z_i − G_i / D_ii]|` (force units). The force
+//! part of the measure is `max_i r_i / max(1, ||z||_inf)`: relative to the largest force, it
+//! cannot see a light body's contact when a heavy body's contacts carry 1e12 times more. The
+//! gap part, `tolerance · max_i D_ii r_i / (gap_tol + ROUND · eps · D_ii |z_i|)`, is what row
+//! i's gap or slip is still wrong by, in units of `gap_tol`, scaled so that both parts meet
+//! the same threshold (`tolerance`). The second term of the denominator is the round-off
+//! floor of G_i itself, whose largest term is typically D_ii z_i: a gap cannot be asked to be
+//! more accurate than it can be computed.
+
+use super::Options;
+
+/// Multiple of the unit round-off in the floor of the gap part (about the number of terms
+/// summed into one G_i, with margin).
+const ROUND: f64 = 16.0;
+
+/// The measure's settings for one call.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Measure {
+    /// tolerance, or 0 without a gap tolerance.
+    weight: f64,
+    gap_tol: f64,
+}
+
+impl Measure {
+    pub fn new(opts: &Options) -> Measure {
+        let g = opts.gap_tolerance;
+        if g > 0.0 && g.is_finite() && opts.tolerance > 0.0 {
+            Measure { weight: opts.tolerance, gap_tol: g }
+        } else {
+            Measure { weight: 0.0, gap_tol: 1.0 }
+        }
+    }
+
+    /// Row i's (force, gap) parts from its iterate z, D⁻¹G (`dg`), bounds and diagonal `d`.
+    #[inline(always)]
+    pub fn row(&self, z: f64, dg: f64, lo: f64, hi: f64, d: f64) -> (f64, f64) {
+        let r = (z - (z - dg).max(lo).min(hi)).abs();
+        if self.weight == 0.0 {
+            return (r, 0.0);
+        }
+        let floor = ROUND * f64::EPSILON * d * z.abs();
+        (r, self.weight * d * r / (self.gap_tol + floor))
+    }
+
+    /// The reported residual from the maxima of the parts and ||z||_inf.
+    #[inline(always)]
+    pub fn combine(force: f64, gap: f64, znorm: f64) -> f64 {
+        (force / znorm.max(1.0)).max(gap)
+    }
+}
