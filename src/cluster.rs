@@ -27,9 +27,8 @@ use faer::{Conj, MatMut, Side};
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
-/// A stiffness block coupling two bodies' DOFs (a connector's contribution): rows in body
-/// `.0`'s DOF order, columns in body `.1`'s.
-pub type CouplingBlock = (usize, usize, nalgebra::DMatrix<f64>);
+/// A stiffness block coupling two bodies' DOFs (a connector's contribution).
+pub use crate::connector::Coupling as CouplingBlock;
 
 /// Why a step matrix could not be factorized.
 #[derive(Debug, Clone, thiserror::Error, miette::Diagnostic)]
@@ -82,7 +81,7 @@ impl Flexibility {
         }
         for c in 0..map.clusters() {
             let members = map.members(c);
-            let coupled = couplings.iter().any(|(a, _, _)| map.cluster_of(*a) == Some(c));
+            let coupled = couplings.iter().any(|cp| map.cluster_of(cp.a) == Some(c));
             let changes = coupled || members.iter().any(|&b| bodies[b].deformable);
             if !first && !changes {
                 continue;
@@ -92,7 +91,7 @@ impl Flexibility {
             let factor = if single && !self.sparse_only {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
-                let own = couplings.iter().filter(|(i, j, _)| *i == b && *j == b).map(|(_, _, k)| k);
+                let own = couplings.iter().filter(|cp| cp.a == b && cp.b == b);
                 Factor::Body(body_flexibility(&bodies[b], own, dt, damping).ok_or_else(failed)?)
             } else {
                 let triplets = cluster_triplets(map, c, bodies, couplings, dt, damping);
@@ -177,15 +176,18 @@ impl Factor {
 /// (a body without mass).
 fn body_flexibility<'a>(
     body: &Body,
-    own: impl Iterator<Item = &'a nalgebra::DMatrix<f64>>,
+    own: impl Iterator<Item = &'a CouplingBlock>,
     dt: f64,
     damping: f64,
 ) -> Option<BodyMatrix> {
     let n = body.ndof();
     let mut k = body.step_matrix(dt, damping);
-    for block in own {
-        let mut view = k.view_mut((0, 0), (n, n));
-        view += block;
+    for cp in own {
+        for (i, &ri) in cp.ra.iter().enumerate() {
+            for (j, &rj) in cp.rb.iter().enumerate() {
+                k[(ri, rj)] += cp.block[(i, j)];
+            }
+        }
     }
     let mut out = BodyMatrix::zeros();
     let inv = k.view((0, 0), (n, n)).clone_owned().cholesky()?.inverse();
@@ -230,11 +232,11 @@ fn cluster_triplets(
             }
         }
     }
-    for (a, b, block) in couplings.iter().filter(|(a, _, _)| map.cluster_of(*a) == Some(c)) {
-        let (ra, rb) = (map.range(*a), map.range(*b));
-        for i in 0..ra.len() {
-            for j in 0..rb.len() {
-                push(ra.start + i, rb.start + j, block[(i, j)]);
+    for cp in couplings.iter().filter(|cp| map.cluster_of(cp.a) == Some(c)) {
+        let (a0, b0) = (map.range(cp.a).start, map.range(cp.b).start);
+        for (i, &ri) in cp.ra.iter().enumerate() {
+            for (j, &rj) in cp.rb.iter().enumerate() {
+                push(a0 + ri, b0 + rj, cp.block[(i, j)]);
             }
         }
     }

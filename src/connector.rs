@@ -18,6 +18,12 @@
 //!
 //! A fixed body has no DOFs: its `G` has no columns, so a connector anchored in it acts on the
 //! free body alone. A broken connector contributes nothing.
+//!
+//! `G_p` acts on the DOFs of body p that the anchor moves with, listed in `cols` (body-local
+//! indices): all of a block's or particle's DOFs, and for a mesh body the free DOFs of the three
+//! nodes of the triangle holding the anchor, weighted by its area coordinates (math note §9.2,
+//! as a point load), so a connector couples a mesh through six DOFs, never densely. A beam needs
+//! a rotation DOF, which a mesh lacks: the scene reader rejects beams on meshes.
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
@@ -68,12 +74,24 @@ pub struct Connector {
     rest_length: Option<f64>,
 }
 
-/// One step's element: `e = G[0] d_1 + G[1] d_2`, stiffness `k`, carried force `force` (all in
-/// global axes).
+/// One step's element: `e = G[0] d_1[cols[0]] + G[1] d_2[cols[1]]`, stiffness `k`, carried
+/// force `force` (all in global axes).
 struct Element {
     g: [DMatrix<f64>; 2],
+    cols: [Vec<usize>; 2],
     k: DMatrix<f64>,
     force: DVector<f64>,
+}
+
+/// A stiffness block of a connector: `block` adds to the global K̃ at rows `ra` of body `a` and
+/// columns `rb` of body `b` (body-local DOF indices).
+#[derive(Debug, Clone)]
+pub struct Coupling {
+    pub a: usize,
+    pub b: usize,
+    pub ra: Vec<usize>,
+    pub rb: Vec<usize>,
+    pub block: DMatrix<f64>,
 }
 
 impl Connector {
@@ -130,10 +148,9 @@ impl Connector {
         (self.anchors[1] - self.anchors[0]).norm()
     }
 
-    /// Stiffness blocks in body DOFs for this step (step-start geometry): `(bi, bj, block)` with
-    /// `block` of size ndof(bi) × ndof(bj), for (1,1), (1,2), (2,1), (2,2), skipping fixed
-    /// bodies; empty once broken. Add each block at the bodies' DOF ranges of the global K.
-    pub fn stiffness(&self, bodies: &[Body]) -> Vec<(usize, usize, DMatrix<f64>)> {
+    /// Stiffness blocks for this step (step-start geometry), `G_pᵀ k G_q` for (1,1), (1,2),
+    /// (2,1), (2,2) at the anchors' DOFs, skipping fixed bodies; empty once broken.
+    pub fn stiffness(&self, bodies: &[Body]) -> Vec<Coupling> {
         if self.broken {
             return Vec::new();
         }
@@ -142,17 +159,51 @@ impl Connector {
         for p in 0..2 {
             for q in 0..2 {
                 if el.g[p].ncols() > 0 && el.g[q].ncols() > 0 {
-                    blocks.push((self.bodies[p], self.bodies[q], el.g[p].transpose() * &el.k * &el.g[q]));
+                    blocks.push(Coupling {
+                        a: self.bodies[p],
+                        b: self.bodies[q],
+                        ra: el.cols[p].clone(),
+                        rb: el.cols[q].clone(),
+                        block: el.g[p].transpose() * &el.k * &el.g[q],
+                    });
                 }
+            }
+            if let Some(k) = self.load_stiffness(bodies, p) {
+                let b = self.bodies[p];
+                let block = DMatrix::from_element(1, 1, k);
+                blocks.push(Coupling { a: b, b, ra: vec![2], rb: vec![2], block });
             }
         }
         blocks
     }
 
+    /// The rotational stiffness of the force F_p the connector applies at anchor p, r_p from the
+    /// body's centroid: F_p · r_p (math note §10.7). Turning the body by θ swings the anchor and
+    /// with it the moment of F_p about the centroid, −θ F_p · r_p to second order: the restoring
+    /// moment of a block hanging from a bolt, which left explicit (to the anchors' update) made a
+    /// block hanging 1 mm off-centre tumble under static relaxation. Only the stabilizing part
+    /// (F_p · r_p > 0) is implicit, as for the tension's geometric stiffness; blocks and
+    /// particles only (a mesh has no rotation DOF), beams not.
+    fn load_stiffness(&self, bodies: &[Body], p: usize) -> Option<f64> {
+        let body = &bodies[self.bodies[p]];
+        if body.fixed || body.mesh.is_some() {
+            return None;
+        }
+        // force on body 1 at anchor 1 (body 2 gets the opposite)
+        let f1 = match self.force {
+            ConnectorForce::Axial(n) => self.axis().0 * n,
+            ConnectorForce::Isotropic(f) => f,
+            ConnectorForce::Beam(_) => return None,
+        };
+        let f = if p == 0 { f1 } else { -f1 };
+        let k = f.dot(&(self.anchors[p] - body.centroid));
+        (k > 0.0).then_some(k)
+    }
+
     /// The step-start force as loads on the bodies' DOFs, `f_p = −G_pᵀ F` (math note §6: for a
-    /// bolt `f_1 = T_1(A1)ᵀ l N0`, `f_2 = −T_2(A2)ᵀ l N0`); fixed bodies and broken connectors
-    /// get nothing.
-    pub fn carried_load(&self, bodies: &[Body]) -> Vec<(usize, Dofs)> {
+    /// bolt `f_1 = T_1(A1)ᵀ l N0`, `f_2 = −T_2(A2)ᵀ l N0`): `(body, DOFs, values)`; fixed
+    /// bodies and broken connectors get nothing.
+    pub fn carried_load(&self, bodies: &[Body]) -> Vec<(usize, Vec<usize>, DVector<f64>)> {
         if self.broken {
             return Vec::new();
         }
@@ -160,10 +211,7 @@ impl Connector {
         let mut loads = Vec::with_capacity(2);
         for p in 0..2 {
             if el.g[p].ncols() > 0 {
-                let f = -(el.g[p].transpose() * &el.force);
-                let mut dofs = Dofs::zeros();
-                dofs.rows_mut(0, f.len()).copy_from(&f);
-                loads.push((self.bodies[p], dofs));
+                loads.push((self.bodies[p], el.cols[p].clone(), -(el.g[p].transpose() * &el.force)));
             }
         }
         loads
@@ -171,19 +219,18 @@ impl Connector {
 
     /// After the step: `F += k e(d)` from the bodies' DOF increments (math note §6:
     /// `N1 = N0 + (EA/l0) lᵀ(u(A2) − u(A1))`). `bodies_before` is the step-start state the
-    /// stiffness was built on; `d(b)` is body b's increment (not called for fixed bodies).
-    pub fn update(&mut self, bodies_before: &[Body], d: &dyn Fn(usize) -> Dofs) {
+    /// stiffness was built on; `d(b, i)` is DOF i of body b's increment (not called for fixed
+    /// bodies).
+    pub fn update(&mut self, bodies_before: &[Body], d: &dyn Fn(usize, usize) -> f64) {
         if self.broken {
             return;
         }
         let el = self.element(bodies_before);
         let mut e = DVector::zeros(el.k.nrows());
         for p in 0..2 {
-            let n = el.g[p].ncols();
-            if n > 0 {
-                let dp = d(self.bodies[p]);
-                e += &el.g[p] * dp.rows(0, n);
-            }
+            let b = self.bodies[p];
+            let dp = DVector::from_iterator(el.cols[p].len(), el.cols[p].iter().map(|&i| d(b, i)));
+            e += &el.g[p] * dp;
         }
         let df = &el.k * e;
         self.force = match self.force {
@@ -199,14 +246,24 @@ impl Connector {
         };
     }
 
-    /// Moves the anchors with their bodies (they are material points): `d(b)` is the increment
-    /// body b's geometry is updated with (the post-adjusted map of paper eqs. 16-18).
-    pub fn move_anchors(&mut self, bodies_before: &[Body], d: &dyn Fn(usize) -> Dofs) {
+    /// Moves the anchors with their bodies (they are material points): `d(b, i)` is DOF i of
+    /// the increment body b's geometry is updated with (the post-adjusted map of paper eqs.
+    /// 16-18); an anchor on a mesh keeps its triangle and area coordinates.
+    pub fn move_anchors(&mut self, bodies_before: &[Body], d: &dyn Fn(usize, usize) -> f64) {
         for k in 0..2 {
-            let body = &bodies_before[self.bodies[k]];
-            if !body.fixed {
-                self.anchors[k] = body.moved_point(self.anchors[k], &d(self.bodies[k]));
+            let b = self.bodies[k];
+            let body = &bodies_before[b];
+            if body.fixed {
+                continue;
             }
+            let x = self.anchors[k];
+            self.anchors[k] = if body.mesh.is_some() {
+                let (cols, g) = end_map(body, x);
+                let u = &g * DVector::from_iterator(cols.len(), cols.iter().map(|&i| d(b, i)));
+                x + Vec2::new(u[0], u[1])
+            } else {
+                body.moved_point(x, &Dofs::from_fn(|i, _| if i < body.ndof() { d(b, i) } else { 0.0 }))
+            };
         }
         if let (false, Some(n)) = (self.broken, self.axial_from_length()) {
             self.force = ConnectorForce::Axial(n);
@@ -274,11 +331,15 @@ impl Connector {
         let b = [&bodies[self.bodies[0]], &bodies[self.bodies[1]]];
         let [a1, a2] = self.anchors;
         match (self.kind, self.force) {
-            (ConnectorKind::Spring { stiffness }, ConnectorForce::Isotropic(f)) => Element {
-                g: [-t_rows(b[0], a1), t_rows(b[1], a2)],
-                k: DMatrix::identity(2, 2) * stiffness,
-                force: DVector::from_column_slice(&[f.x, f.y]),
-            },
+            (ConnectorKind::Spring { stiffness }, ConnectorForce::Isotropic(f)) => {
+                let ([c1, c2], [g1, g2]) = ends(b, [a1, a2]);
+                Element {
+                    g: [-g1, g2],
+                    cols: [c1, c2],
+                    k: DMatrix::identity(2, 2) * stiffness,
+                    force: DVector::from_column_slice(&[f.x, f.y]),
+                }
+            }
             (_, ConnectorForce::Axial(n)) => {
                 let (l, len) = self.axis();
                 let k = match self.kind {
@@ -292,8 +353,10 @@ impl Connector {
                 // (math note §10.7)
                 let ll = nalgebra::Matrix2::new(l.x * l.x, l.x * l.y, l.x * l.y, l.y * l.y);
                 let km = ll * k + (nalgebra::Matrix2::identity() - ll) * (n.max(0.0) / len);
+                let ([c1, c2], [g1, g2]) = ends(b, [a1, a2]);
                 Element {
-                    g: [-t_rows(b[0], a1), t_rows(b[1], a2)],
+                    g: [-g1, g2],
+                    cols: [c1, c2],
                     k: DMatrix::from_column_slice(2, 2, km.as_slice()),
                     force: DVector::from_column_slice(&[n * l.x, n * l.y]),
                 }
@@ -318,10 +381,37 @@ impl Connector {
         let global = self.to_local().transpose() * local;
         Element {
             g,
+            cols: [(0..b[0].ndof()).collect(), (0..b[1].ndof()).collect()],
             k: DMatrix::from_column_slice(6, 6, beam_matrix(&self.kind, len, axis).as_slice()),
             force: DVector::from_column_slice(global.as_slice()),
         }
     }
+}
+
+/// The two anchors' maps [`end_map`].
+fn ends(b: [&Body; 2], x: [Vec2; 2]) -> ([Vec<usize>; 2], [DMatrix<f64>; 2]) {
+    let ((c1, g1), (c2, g2)) = (end_map(b[0], x[0]), end_map(b[1], x[1]));
+    ([c1, c2], [g1, g2])
+}
+
+/// How the material point x of a body moves, `u(x) = G d[cols]` (body-local DOFs): `T_b(x)`
+/// over all DOFs for a block or particle (paper eqs. 3, 5, 7); for a mesh body the area
+/// coordinates of the triangle holding x on its nodes' free DOFs (math note §9.2).
+fn end_map(body: &Body, x: Vec2) -> (Vec<usize>, DMatrix<f64>) {
+    let Some(fe) = body.mesh.as_ref().filter(|_| !body.fixed) else {
+        return ((0..body.ndof()).collect(), t_rows(body, x));
+    };
+    let Some((e, l)) = fe.locate(x) else { return (Vec::new(), DMatrix::zeros(2, 0)) };
+    let mut cols = Vec::with_capacity(6);
+    let mut w = Vec::with_capacity(3);
+    for (k, &n) in fe.triangles[e].iter().enumerate() {
+        if let Some(dof) = fe.pattern.dof(n) {
+            cols.extend([dof, dof + 1]);
+            w.push(l[k]);
+        }
+    }
+    let g = DMatrix::from_fn(2, cols.len(), |r, c| if c % 2 == r { w[c / 2] } else { 0.0 });
+    (cols, g)
 }
 
 /// `T_b(x)`: 2 × ndof (paper eqs. 3, 5, 7).

@@ -81,7 +81,7 @@ fn spring_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<CouplingBlo
         for d in 0..2.min(bodies[i].ndof()).min(bodies[j].ndof()) {
             m[(d, d)] = s * k;
         }
-        (i, j, m)
+        CouplingBlock { a: i, b: j, ra: (0..bodies[i].ndof()).collect(), rb: (0..bodies[j].ndof()).collect(), block: m }
     };
     vec![block(a, a, 1.0), block(b, b, 1.0), block(a, b, -1.0), block(b, a, -1.0)]
 }
@@ -141,11 +141,11 @@ fn check_scene(
             }
         }
     }
-    for (a, b, m) in &couplings {
-        let (ra, rb) = (map.range(*a), map.range(*b));
-        for p in 0..ra.len() {
-            for q in 0..rb.len() {
-                k_dense[(ra.start + p, rb.start + q)] += m[(p, q)];
+    for cp in &couplings {
+        let (a0, b0) = (map.range(cp.a).start, map.range(cp.b).start);
+        for (p, &rp) in cp.ra.iter().enumerate() {
+            for (q, &rq) in cp.rb.iter().enumerate() {
+                k_dense[(a0 + rp, b0 + rq)] += cp.block[(p, q)];
             }
         }
     }

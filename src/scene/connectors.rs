@@ -62,12 +62,27 @@ fn connector(
         let body = &bodies[held_by[0]].name;
         return fail(place, format!("both anchors of connector \"{name}\" are on the same body \"{body}\""));
     }
-    if let Some(&m) = held_by.iter().find(|&&b| matches!(bodies[b].shape, crate::model::Shape::Mesh(_))) {
-        let body = &bodies[m].name;
-        return fail(
-            place,
-            format!("connector \"{name}\" is anchored on mesh body \"{body}\": not supported yet"),
-        );
+    for (k, &b) in held_by.iter().enumerate() {
+        if !matches!(bodies[b].shape, crate::model::Shape::Mesh(_)) {
+            continue;
+        }
+        let body = &bodies[b].name;
+        if kind == Kind::Beam {
+            return fail(
+                place,
+                format!(
+                    "beam \"{name}\" is anchored on mesh body \"{body}\": a beam needs a rotation DOF, \
+                     which a mesh lacks; use a bolt or spring, or anchor the beam on a block"
+                ),
+            );
+        }
+        if !bodies[b].shape.contains(points[k]) {
+            let (x, y) = (points[k].x, points[k].y);
+            return fail(
+                c.points.get_ref()[k].span(),
+                format!("anchor points[{k}] = ({x}, {y}) of connector \"{name}\" lies outside mesh body \"{body}\""),
+            );
+        }
     }
     if bodies[held_by[0]].fixed && bodies[held_by[1]].fixed {
         let (a, b) = (&bodies[held_by[0]].name, &bodies[held_by[1]].name);

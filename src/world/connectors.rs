@@ -4,7 +4,6 @@
 //! follow the bodies' increments.
 
 use super::{Event, World};
-use crate::body::Dofs;
 use crate::cluster::{CouplingBlock, Flexibility};
 use crate::dofs::DofMap;
 
@@ -25,13 +24,21 @@ impl World {
         self.connectors.iter().flat_map(|c| c.stiffness(&self.bodies)).collect()
     }
 
-    /// Adds the forces the connectors carried into the step to the bodies' loads (§6).
-    pub(super) fn add_connector_loads(&self, f: &mut [Dofs]) {
+    /// Adds the forces the connectors carried into the step to the global load vector (§6).
+    pub(super) fn add_connector_loads(&self, f: &mut [f64]) {
         for c in &self.connectors {
-            for (b, load) in c.carried_load(&self.bodies) {
-                f[b] += load;
+            for (b, cols, load) in c.carried_load(&self.bodies) {
+                let at = self.dofs.range(b).start;
+                for (&i, v) in cols.iter().zip(load.iter()) {
+                    f[at + i] += v;
+                }
             }
         }
+    }
+
+    /// DOF i of body b in the global vector `v`.
+    fn body_dof<'a>(&'a self, v: &'a [f64]) -> impl Fn(usize, usize) -> f64 + 'a {
+        move |b, i| v[self.dofs.range(b).start + i]
     }
 
     /// Connectors whose tension after the increment `dbar` (a global DOF vector) would exceed
@@ -41,7 +48,7 @@ impl World {
         let mut events = Vec::new();
         for k in 0..self.connectors.len() {
             let mut trial = self.connectors[k].clone();
-            trial.update(&self.bodies, &|b| self.dofs.gather(dbar, b));
+            trial.update(&self.bodies, &self.body_dof(dbar));
             if trial.exceeds_strength() {
                 let c = &mut self.connectors[k];
                 c.break_off();
@@ -60,7 +67,7 @@ impl World {
     /// their bodies (the bodies are still in the step-start state the stiffness was built on).
     pub(super) fn update_connectors(&mut self, dbar: &[f64]) {
         let (bodies, dofs) = (&self.bodies, &self.dofs);
-        let d = |b: usize| dofs.gather(dbar, b);
+        let d = |b: usize, i: usize| dbar[dofs.range(b).start + i];
         for c in &mut self.connectors {
             c.update(bodies, &d);
             c.move_anchors(bodies, &d);

@@ -37,7 +37,7 @@ impl World {
             f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
                 + body.shape_row(p.current, Vec2::y()) * force.y;
         }
-        self.add_connector_loads(&mut f);
+        self.add_connector_loads(&mut df);
         for (b, fb) in f.iter().enumerate() {
             match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
                 // a mesh body's load (math note §9.1)

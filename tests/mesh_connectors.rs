@@ -1,0 +1,63 @@
+//! Connectors anchored on meshed bodies (issue 8, math note §6 and §9.2): a bolt's end on a mesh
+//! moves with the three nodes of the triangle that holds it, weighted by its area coordinates, and
+//! the bolt's stiffness joins the mesh's sparse K̃ (a mesh bolted to a block is one cluster).
+//! Static relaxation, so the references are statics:
+//!
+//! * `examples/mesh_bolted_slab.toml`: the 2 m × 0.3 m slab (ρ = 2500, g = 10: W = 15 000 N per
+//!   metre) hangs from two bolts at x = 0.25 and 1.75 m. The bolt forces must add up to W
+//!   (vertical equilibrium of the slab; the bolts stay vertical to within their anchors' lateral
+//!   motion, ~1e-8 m over 0.8 m), checked to 1e-9 relative, and each carry W/2 (moment balance
+//!   about the slab's centroid, x = 1 m, exact for the mesh's area integration), checked to 1e-6:
+//!   the anchors move sideways by about 1e-8 m (the mesh is unstructured, so slightly
+//!   unsymmetric), which changes the 0.75 m moment arms by that much.
+//! * The same slab carrying a rigid 0.4 m × 0.4 m block (1 m below it, on a third bolt at
+//!   x = 1 m): the slab and block form one sparse cluster; the lower bolt carries the block's
+//!   weight, 4 000 N, and the upper ones the total, 19 000 N (1e-9 relative, as above).
+
+mod common;
+
+use pbdda::world::World;
+
+fn settle(world: &mut World, steps: usize) {
+    for _ in 0..steps {
+        let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
+        assert!(rec.converged, "{rec:?}");
+    }
+}
+
+fn bolt_force(world: &World, name: &str) -> f64 {
+    world.connectors.iter().find(|c| c.name == name).unwrap_or_else(|| panic!("no {name}")).axial_force()
+}
+
+#[test]
+fn bolted_slab_hangs_at_its_statics() {
+    let mut world = World::new(common::example("mesh_bolted_slab.toml"));
+    settle(&mut world, 10);
+    let (l, r) = (bolt_force(&world, "left"), bolt_force(&world, "right"));
+    let w = 2500.0 * 10.0 * 2.0 * 0.3;
+    assert!(((l + r) - w).abs() <= 1e-9 * w, "bolts {l} + {r} against the weight {w}");
+    for f in [l, r] {
+        assert!((f - w / 2.0).abs() <= 1e-6 * w, "bolt {f} against half the weight {}", w / 2.0);
+    }
+}
+
+#[test]
+fn slab_and_a_block_bolted_to_it_form_one_cluster() {
+    let mut model = common::example("mesh_bolted_slab.toml");
+    let extra = "[[body]]\nname = \"block\"\nshape = \"polygon\"\n\
+        vertices = [[0.8, -1.2], [1.2, -1.2], [1.2, -0.8], [0.8, -0.8]]\nmaterial = \"rock\"\n\
+        [[connector]]\nname = \"hanger\"\nkind = \"bolt\"\npoints = [[1.0, 0.1], [1.0, -0.9]]\n\
+        young = 2.0e11\narea = 5.0e-4\n";
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/mesh_bolted_slab.toml");
+    let text = std::fs::read_to_string(&path).expect("example") + extra;
+    model = pbdda::scene::parse(&text, path.to_str().expect("utf-8 path")).unwrap_or_else(|e| panic!("{e}\n{model:?}"));
+    let mut world = World::new(model);
+    let (slab, block) = (common::body(&world, "slab"), common::body(&world, "block"));
+    assert_eq!(world.dofs.cluster_of(slab), world.dofs.cluster_of(block));
+    settle(&mut world, 10);
+    let (wb, ws) = (2500.0 * 10.0 * 0.16, 2500.0 * 10.0 * 0.6);
+    let hanger = bolt_force(&world, "hanger");
+    assert!((hanger - wb).abs() <= 1e-9 * wb, "hanger {hanger} against the block's weight {wb}");
+    let up = bolt_force(&world, "left") + bolt_force(&world, "right");
+    assert!((up - (wb + ws)).abs() <= 1e-9 * (wb + ws), "bolts {up} against the total weight {}", wb + ws);
+}
