@@ -47,6 +47,23 @@ pub struct Flexibility {
     sparse_only: bool,
     /// The step length the factors are for (K̃ = K + 2M/dt²): a new one refactors them all.
     dt: f64,
+    /// Refactor policy of sparse clusters (`[solver] factor_drift`, math note §9.3): 0 refactors
+    /// every step; a positive value keeps a factor while no element of the cluster has turned or
+    /// strained by more than it since the factor was formed.
+    factor_drift: f64,
+    /// Per cluster, the geometry of each member its factor was formed on (only with
+    /// `factor_drift > 0`).
+    formed: Vec<Option<Vec<Formed>>>,
+    /// Numeric factorizations of sparse clusters so far.
+    sparse_factorizations: usize,
+}
+
+/// The geometry a sparse cluster's factor was formed on: each member's mesh nodes, or its
+/// rotation for a block or particle (whose connector blocks turn with it).
+#[derive(Debug, Clone)]
+enum Formed {
+    Mesh(Vec<crate::geometry::Vec2>),
+    Rotation(f64),
 }
 
 #[derive(Debug, Clone)]
@@ -60,7 +77,33 @@ impl Flexibility {
     /// An empty flexibility; [`Self::refresh`] factorizes. With `sparse_only`, every cluster,
     /// single bodies included, goes through the sparse Cholesky.
     pub fn new(sparse_only: bool) -> Flexibility {
-        Flexibility { factors: Vec::new(), sparse_only, dt: f64::NAN }
+        Flexibility {
+            factors: Vec::new(),
+            sparse_only,
+            dt: f64::NAN,
+            factor_drift: 0.0,
+            formed: Vec::new(),
+            sparse_factorizations: 0,
+        }
+    }
+
+    /// Sets the refactor policy of sparse clusters (see the field `factor_drift`).
+    pub fn with_factor_drift(mut self, drift: f64) -> Flexibility {
+        self.factor_drift = drift;
+        self
+    }
+
+    /// Numeric factorizations of sparse clusters since this flexibility was made.
+    pub fn sparse_factorizations(&self) -> usize {
+        self.sparse_factorizations
+    }
+
+    /// Whether sparse cluster `c`'s factor can be kept: the largest turn or strain of an element
+    /// edge (a block's turn) since it was formed is within `factor_drift`.
+    fn keeps(&self, c: usize, members: &[usize], bodies: &[Body]) -> bool {
+        let Some(Some(formed)) = self.formed.get(c) else { return false };
+        let drift = members.iter().zip(formed).map(|(&b, f)| f.drift(&bodies[b]));
+        formed.len() == members.len() && drift.fold(0.0, f64::max) <= self.factor_drift
     }
 
     /// Factorizes the clusters whose K̃ changed: all of them on the first call (or when the
@@ -77,8 +120,10 @@ impl Flexibility {
         let first = self.factors.len() != map.clusters() || self.dt != dt;
         if first {
             self.factors.clear();
+            self.formed.clear();
             self.dt = dt;
         }
+        self.formed.resize(map.clusters(), None);
         for c in 0..map.clusters() {
             let members = map.members(c);
             let coupled = couplings.iter().any(|cp| map.cluster_of(cp.a) == Some(c));
@@ -88,7 +133,14 @@ impl Flexibility {
             }
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
             let single = members.len() == 1 && bodies[members[0]].mesh.is_none();
-            let factor = if single && !self.sparse_only {
+            let sparse = !single || self.sparse_only;
+            if sparse && !first && self.keeps(c, members, bodies) {
+                continue; // math note §9.3: the kept factor (and its cached columns) serves on
+            }
+            if sparse && self.factor_drift > 0.0 {
+                self.formed[c] = Some(members.iter().map(|&b| Formed::of(&bodies[b])).collect());
+            }
+            let factor = if !sparse {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
                 let own = couplings.iter().filter(|cp| cp.a == b && cp.b == b);
@@ -101,6 +153,7 @@ impl Flexibility {
                     _ => SparseFactor::new(map.cluster_range(c).len()),
                 };
                 sparse.factorize(&triplets).map_err(|_| failed())?;
+                self.sparse_factorizations += 1;
                 Factor::Sparse(sparse)
             };
             if first {
@@ -196,6 +249,35 @@ fn body_flexibility<'a>(
     }
     out.view_mut((0, 0), (n, n)).copy_from(&inv);
     Some(out)
+}
+
+impl Formed {
+    fn of(body: &Body) -> Formed {
+        match &body.mesh {
+            Some(fe) => Formed::Mesh(fe.nodes.clone()),
+            None => Formed::Rotation(body.rotation),
+        }
+    }
+
+    /// How far `body` has moved from this geometry, rigid translation aside: the largest relative
+    /// change of an element edge vector |Δ(x_j − x_i)| / |x_j − x_i| (rotation plus strain) for a
+    /// mesh, the rotation for a block or particle.
+    fn drift(&self, body: &Body) -> f64 {
+        match (self, &body.mesh) {
+            (Formed::Mesh(then), Some(fe)) if then.len() == fe.nodes.len() => {
+                let edge = |i: usize, j: usize| {
+                    let (a, b) = (fe.nodes[j] - fe.nodes[i], then[j] - then[i]);
+                    (a - b).norm() / b.norm()
+                };
+                fe.triangles
+                    .iter()
+                    .map(|t| edge(t[0], t[1]).max(edge(t[1], t[2])).max(edge(t[2], t[0])))
+                    .fold(0.0, f64::max)
+            }
+            (Formed::Rotation(r), None) => (body.rotation - r).abs(),
+            _ => f64::INFINITY,
+        }
+    }
 }
 
 /// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃: the bodies' blocks

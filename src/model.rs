@@ -75,6 +75,10 @@ pub struct SolverSettings {
     /// Accept a step whose VI did not converge with a warning (`[solver] allow_unconverged`,
     /// default false: such a step fails, math note §10.8).
     pub allow_unconverged: bool,
+    /// Refactor policy of sparse clusters (`[solver] factor_drift`, math note §9.3): 0 (default)
+    /// refactors every step; a positive value keeps a factor while no element has turned or
+    /// strained by more than it since the factor was formed.
+    pub factor_drift: f64,
 }
 
 impl Default for SolverSettings {
@@ -84,6 +88,7 @@ impl Default for SolverSettings {
             max_iterations: 200_000,
             method: crate::vi::Method::Auto,
             allow_unconverged: false,
+            factor_drift: 0.0,
         }
     }
 }

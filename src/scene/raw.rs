@@ -77,6 +77,7 @@ pub(super) struct Solver {
     pub max_iterations: Option<Spanned<i64>>,
     pub method: Option<Spanned<String>>,
     pub allow_unconverged: Option<bool>,
+    pub factor_drift: Option<Spanned<f64>>,
 }
 
 /// `[[material]]`

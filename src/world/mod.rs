@@ -152,7 +152,7 @@ impl World {
             monitors,
             connectors,
             dofs: DofMap::default(),
-            flex: Flexibility::new(settings.sparse_only),
+            flex: Flexibility::default(),
             memory: ContactMemory::new(),
             broken: HashSet::new(),
             allowance: 1e-9 * threshold,
@@ -274,6 +274,12 @@ impl World {
     /// static relaxation (velocity carry 0), which discards the velocities it acts on.
     fn damping(&self) -> f64 {
         if self.model.physics.velocity_carry > 0.0 { STRAIN_DAMPING } else { 0.0 }
+    }
+
+    /// Numeric factorizations of sparse clusters (meshes, bolted groups) since the clusters last
+    /// changed (`[solver] factor_drift` keeps factors: math note §9.3).
+    pub fn sparse_factorizations(&self) -> usize {
+        self.flex.sparse_factorizations()
     }
 
     /// The scene's time step (a step may run as shorter trials: `adaptive.rs`).
