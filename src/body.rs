@@ -432,7 +432,7 @@ impl Body {
                 BodyShape::Ring { center: self.centroid, outer: *outer, inner: *inner }
             }
             Outline::Polygon { vertices, convex } => {
-                BodyShape::Polygon { vertices: vertices.clone(), convex: convex.clone() }
+                BodyShape::Polygon { vertices: vertices.clone(), convex: convex.clone(), nodes: self.mesh.is_some() }
             }
         }
     }

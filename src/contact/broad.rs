@@ -193,7 +193,7 @@ mod tests {
                                 c + r * Vec2::new(a.cos(), a.sin())
                             })
                             .collect();
-                        BodyShape::Polygon { vertices, convex: vec![true; n] }
+                        BodyShape::Polygon { vertices, convex: vec![true; n], nodes: false }
                     }
                 };
                 (shape, fixed)

@@ -32,6 +32,9 @@ pub enum BodyShape {
     Polygon {
         vertices: Vec<Vec2>,
         convex: Vec<bool>,
+        /// A mesh's boundary loop: every flagged vertex is a node that moves on its own and
+        /// carries its own contact with a particle (math note §9.2).
+        nodes: bool,
     },
 }
 

@@ -61,8 +61,8 @@ impl<'a> Body<'a> {
             BodyShape::Ring { center, outer, inner } => {
                 Body::Particle(Particle { body, center, outer, inner })
             }
-            BodyShape::Polygon { ref vertices, ref convex } => {
-                Body::Polygon(Polygon::new(body, vertices, convex))
+            BodyShape::Polygon { ref vertices, ref convex, nodes } => {
+                Body::Polygon(Polygon { nodes, ..Polygon::new(body, vertices, convex) })
             }
         }
     }
@@ -126,6 +126,8 @@ pub(crate) struct Polygon<'a> {
     pub vertices: &'a [Vec2],
     /// `convex[k]`: the interior angle at vertex k is below 180°.
     pub convex: &'a [bool],
+    /// A mesh's boundary loop (see [`BodyShape::Polygon`]).
+    pub nodes: bool,
     /// `edges[k]`: edge k, computed once per pair. A zero-length edge has a NaN direction, so
     /// every test on it fails and it makes no contact.
     edges: Vec<Edge>,
@@ -164,7 +166,7 @@ impl<'a> Polygon<'a> {
                 Edge { start, t, len, n_out: cw(t) }
             })
             .collect();
-        Polygon { body, vertices, convex, edges }
+        Polygon { body, vertices, convex, nodes: false, edges }
     }
 
     pub fn vertex_count(&self) -> usize {

@@ -4,7 +4,7 @@
 
 use super::narrow::{Particle, Polygon, Tolerances, plain_contact};
 use super::{ContactGeom, ContactKey, ContactKind, Feature};
-use crate::geometry::Vec2;
+use crate::geometry::{Vec2, cross};
 
 /// Contacts between two particles (P-P, paper Figure 2): inside a ring's hole when the centre
 /// of one particle lies in the hole of the other, otherwise outside.
@@ -75,12 +75,76 @@ pub fn particle_block(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec
         }
         return;
     }
+    if b.nodes {
+        return particle_loop(p, b, tol, out);
+    }
     for f in 0..b.vertex_count() {
         particle_edge(p, b, f, tol, out);
     }
     for k in (0..b.vertex_count()).filter(|&k| b.convex[k]) {
         particle_vertex(p, b, k, tol, out);
     }
+}
+
+/// P-L (math note §9.2): a particle against a mesh's boundary loop. Every contact node within
+/// the threshold that faces the particle carries its own contact, so a pressed particle bears on
+/// every node under it and the nodal forces resolve the pressure (a rigid polygon's vertex cannot
+/// move against its edges, a mesh node can). A node on a straight stretch (turn below 3°, the
+/// band of `loop_contact_flags`) pushes along the surface normal there, the mean of its edges'
+/// normals, with the gap measured along it to the circle; a corner node as case III, along the
+/// line to the centre. The edges meet the particle as in case I (the true normal at the foot of
+/// the centre, so that a rigid particle bouncing on a stiff mesh reflects about the surface),
+/// except where the foot lies within 1 % of the edge's length of a node that has its own contact
+/// (the same point twice).
+fn particle_loop(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    let n = b.vertex_count();
+    let mut touched = vec![false; n];
+    for k in (0..n).filter(|&k| b.convex[k]) {
+        if let Some((nrm, g0, cp)) = node_contact(p, b, k).filter(|c| c.1 < tol.threshold) {
+            touched[k] = true;
+            let key = ContactKey {
+                a: p.body as u32,
+                fa: Feature::Outer,
+                b: b.body as u32,
+                fb: Feature::Vertex(k as u32),
+            };
+            out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + b.vertices[k]), nrm, g0));
+        }
+    }
+    for f in 0..n {
+        let e = b.edge(f);
+        let s = e.along(p.center);
+        let near = 0.01 * e.len;
+        if !((s <= near && touched[f]) || (s >= e.len - near && touched[b.next(f)])) {
+            particle_edge(p, b, f, tol, out);
+        }
+    }
+}
+
+/// Node k's contact with particle p: (normal from the loop towards the particle, gap, the
+/// particle's point), or None when the node does not face the particle.
+fn node_contact(p: &Particle, b: &Polygon, k: usize) -> Option<(Vec2, f64, Vec2)> {
+    let v = b.vertices[k];
+    let d = p.center - v;
+    let (n_in, n_out) = (b.edge(b.prev(k)).n_out, b.edge(k).n_out);
+    let (t_in, t_out) = (b.edge(b.prev(k)).t, b.edge(k).t);
+    let straight = cross(t_in, t_out).abs() <= 0.05;
+    if straight {
+        let nrm = (n_in + n_out).normalize();
+        let along = d.dot(&nrm);
+        let off = (d - along * nrm).norm_squared();
+        if along <= 0.0 || off >= p.outer * p.outer {
+            return None;
+        }
+        let g0 = along - (p.outer * p.outer - off).sqrt();
+        return Some((nrm, g0, v + nrm * g0));
+    }
+    let dist = d.norm();
+    if !(dist > 0.0 && d.dot(&(n_in + n_out)) > 0.0) {
+        return None;
+    }
+    let nrm = d / dist;
+    Some((nrm, dist - p.outer, p.center - p.outer * nrm))
 }
 
 /// Whether polygon `b` lies in the hole of ring `p`: every vertex is nearer the centre than
