@@ -5,6 +5,7 @@
 //! - a chain of 10 000 disks joined by springs lying on the floor (one cluster, 10 000 floor
 //!   contacts: its part of W is in operator form), against the 10 000-disk unconnected pile in the
 //!   same run.
+//!
 //! Each world is stepped twice before timing (the first step does the symbolic analysis); the stage
 //! times of one step and the peak memory are printed once.
 
@@ -106,10 +107,10 @@ fn warmed(name: &str, mut world: World) -> World {
         rec.inner_iterations,
         rec.residual
     );
-    if let Ok(status) = std::fs::read_to_string("/proc/self/status") {
-        if let Some(line) = status.lines().find(|l| l.starts_with("VmHWM")) {
-            eprintln!("  peak memory so far: {}", line.trim_start_matches("VmHWM:").trim());
-        }
+    if let Ok(status) = std::fs::read_to_string("/proc/self/status")
+        && let Some(line) = status.lines().find(|l| l.starts_with("VmHWM"))
+    {
+        eprintln!("  peak memory so far: {}", line.trim_start_matches("VmHWM:").trim());
     }
     world
 }

@@ -14,7 +14,6 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use pbdda::vi::{BoundRule, Correction, Operator, Options, Problem, Solver};
 
 // the problem generators of the integration tests: the bench times the same problems
-#[allow(dead_code)]
 #[path = "../tests/vi_support/mod.rs"]
 mod vi_support;
 use std::hint::black_box;

@@ -431,9 +431,11 @@ impl Body {
             Outline::Ring { outer, inner } => {
                 BodyShape::Ring { center: self.centroid, outer: *outer, inner: *inner }
             }
-            Outline::Polygon { vertices, convex } => {
-                BodyShape::Polygon { vertices: vertices.clone(), convex: convex.clone(), nodes: self.mesh.is_some() }
-            }
+            Outline::Polygon { vertices, convex } => BodyShape::Polygon {
+                vertices: vertices.clone(),
+                convex: convex.clone(),
+                nodes: self.mesh.is_some(),
+            },
         }
     }
 

@@ -7,6 +7,7 @@
 //! - a bolt weaker than the load breaks in step 1, is solved out of that step, and the block slides
 //!   with a = g(sin θ − μ cos θ) from t = 0;
 //! - a beam cantilever and a chain of ten beams give Timoshenko's tip deflection and rotation.
+//!
 //! Static analysis is `velocity_carry = 0`: each step's mass term acts as a damper that shrinks the
 //! remaining out-of-balance by the factor (2m/dt²)/(k + 2m/dt²), so after the number of steps used
 //! here the iteration error is far below the tolerances (stated per test).

@@ -50,7 +50,8 @@ fn slab_and_a_block_bolted_to_it_form_one_cluster() {
         young = 2.0e11\narea = 5.0e-4\n";
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/mesh_bolted_slab.toml");
     let text = std::fs::read_to_string(&path).expect("example") + extra;
-    model = pbdda::scene::parse(&text, path.to_str().expect("utf-8 path")).unwrap_or_else(|e| panic!("{e}\n{model:?}"));
+    model = pbdda::scene::parse(&text, path.to_str().expect("utf-8 path"))
+        .unwrap_or_else(|e| panic!("{e}\n{model:?}"));
     let mut world = World::new(model);
     let (slab, block) = (common::body(&world, "slab"), common::body(&world, "block"));
     assert_eq!(world.dofs.cluster_of(slab), world.dofs.cluster_of(block));

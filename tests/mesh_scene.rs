@@ -114,13 +114,22 @@ fn misplaced_and_missing_mesh_keys() {
 /// mesh body; and an anchor given to a mesh body by `bodies` must lie inside it (line 24).
 #[test]
 fn connectors_on_meshes() {
-    let disk = "[[body]]\nname = \"d\"\nshape = \"disk\"\ncenter = [3.0, 0.4]\nradius = 0.5\nmaterial = \"rock\"\n";
+    let disk =
+        "[[body]]\nname = \"d\"\nshape = \"disk\"\ncenter = [3.0, 0.4]\nradius = 0.5\nmaterial = \"rock\"\n";
     let spring = "[[connector]]\nkind = \"spring\"\npoints = [[0.5, 0.4], [3.0, 0.4]]\nstiffness = 1.0e6\n";
     assert!(parse(&mesh_scene(&format!("{disk}{spring}")), &scene_path()).is_ok());
     let beam = "[[connector]]\nkind = \"beam\"\npoints = [[0.5, 0.4], [3.0, 0.4]]\nyoung = 1e9\narea = 0.01\n\
         inertia = 1e-5\nshear_modulus = 4e8\nshear_factor = 1.2\n";
-    fails(&mesh_scene(&format!("{disk}{beam}")), "24 connector[0].points", &["mesh body \"m\"", "rotation DOF"]);
+    fails(
+        &mesh_scene(&format!("{disk}{beam}")),
+        "24 connector[0].points",
+        &["mesh body \"m\"", "rotation DOF"],
+    );
     let outside = "[[connector]]\nkind = \"spring\"\npoints = [[1.5, 0.4], [3.0, 0.4]]\nstiffness = 1.0e6\n\
         bodies = [\"m\", \"d\"]\n";
-    fails(&mesh_scene(&format!("{disk}{outside}")), "24 connector[0].points[0]", &["outside mesh body \"m\""]);
+    fails(
+        &mesh_scene(&format!("{disk}{outside}")),
+        "24 connector[0].points[0]",
+        &["outside mesh body \"m\""],
+    );
 }

@@ -81,7 +81,13 @@ fn spring_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<CouplingBlo
         for d in 0..2.min(bodies[i].ndof()).min(bodies[j].ndof()) {
             m[(d, d)] = s * k;
         }
-        CouplingBlock { a: i, b: j, ra: (0..bodies[i].ndof()).collect(), rb: (0..bodies[j].ndof()).collect(), block: m }
+        CouplingBlock {
+            a: i,
+            b: j,
+            ra: (0..bodies[i].ndof()).collect(),
+            rb: (0..bodies[j].ndof()).collect(),
+            block: m,
+        }
     };
     vec![block(a, a, 1.0), block(b, b, 1.0), block(a, b, -1.0), block(b, a, -1.0)]
 }

@@ -46,7 +46,7 @@ impl ConnectorWriter {
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let Some(out) = &mut self.out else { return Ok(()) };
         let s = rec.step;
-        if !(s % self.every == 0 || s == self.last_step) {
+        if !(s.is_multiple_of(self.every) || s == self.last_step) {
             return Ok(());
         }
         let mut buf = Vec::new();

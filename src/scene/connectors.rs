@@ -80,7 +80,9 @@ fn connector(
             let (x, y) = (points[k].x, points[k].y);
             return fail(
                 c.points.get_ref()[k].span(),
-                format!("anchor points[{k}] = ({x}, {y}) of connector \"{name}\" lies outside mesh body \"{body}\""),
+                format!(
+                    "anchor points[{k}] = ({x}, {y}) of connector \"{name}\" lies outside mesh body \"{body}\""
+                ),
             );
         }
     }

@@ -224,9 +224,9 @@ pub(super) fn step_length<R: Rows>(
         st.stats.products += 1;
         c.rows.prepare(yt, wyt, tmp);
         let mut norm = 0.0f64;
-        for i in 0..n {
-            wyt[i] = c.rows.row(i, yt, wyt[i]);
-            norm = norm.max(wyt[i].abs());
+        for (i, w) in wyt.iter_mut().enumerate() {
+            *w = c.rows.row(i, yt, *w);
+            norm = norm.max(w.abs());
         }
         if !(norm > 0.0 && norm.is_finite()) {
             break;

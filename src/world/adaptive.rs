@@ -155,7 +155,8 @@ impl World {
         let limit = 0.5 * threshold;
         (0..self.bodies.len()).find_map(|b| {
             let motion = self.bodies[b].max_motion(&dbar[self.dofs.range(b)]);
-            (!(motion <= limit)).then(|| Trouble::MovedTooFar {
+            // a NaN motion counts as too far
+            (motion.is_nan() || motion > limit).then(|| Trouble::MovedTooFar {
                 body: self.bodies[b].name.clone(),
                 motion,
                 limit,

@@ -16,7 +16,8 @@ impl World {
     /// The DOF map and clusters for the current connector graph; the factors start afresh.
     pub(super) fn renumber(&mut self) {
         self.dofs = DofMap::new(&self.bodies, &self.coupled_pairs());
-        self.flex = Flexibility::new(self.settings.sparse_only).with_factor_drift(self.model.solver.factor_drift);
+        self.flex =
+            Flexibility::new(self.settings.sparse_only).with_factor_drift(self.model.solver.factor_drift);
     }
 
     /// Stiffness blocks of the intact connectors, step-start geometry (math note §6).
