@@ -7,11 +7,12 @@
 //!   first, `steps.csv` last).
 //! - SIGTERM: the run finishes its step, writes `interrupted at step N` to run.log, where N is
 //!   the last step of steps.csv and bodies.csv, and exits with a non-zero code.
-//! - `pbdda resume` after a `kill -9` continues from the checkpoint: bodies.csv, contacts.csv
-//!   and monitors.csv equal those of an uninterrupted run byte for byte, and steps.csv too with
-//!   its wall-time column removed (the only column that depends on the clock).
+//! - `pbdda resume` after a `kill -9` continues from the checkpoint: bodies.csv, contacts.csv,
+//!   monitors.csv (and connectors.csv) equal those of an uninterrupted run byte for byte, and
+//!   steps.csv too with its wall-time column removed (the only column that depends on the clock).
 //!
-//! The scene is the paper's block staircase (§7.2), run longer: every step has contacts.
+//! The scene is the paper's block staircase (§7.2), run longer: every step has contacts; the
+//! connector case runs `examples/connector_bolt.toml`.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -29,10 +30,14 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn start(out: &Path, steps: usize, extra: &[&str]) -> Child {
+    start_scene(&scene(), out, steps, extra)
+}
+
+fn start_scene(scene: &Path, out: &Path, steps: usize, extra: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_pbdda"))
         .args(["run", "-q", "--overwrite", "--set", "output.vtk=false"])
         .args(["--set", &format!("time.steps={steps}")])
-        .arg(scene())
+        .arg(scene)
         .arg("--out")
         .arg(out)
         .args(extra)
@@ -156,6 +161,33 @@ fn resume_matches_an_uninterrupted_run() {
     let status = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(["resume", "-q"]).arg(&cut).status().unwrap();
     assert!(status.success());
     for name in ["bodies.csv", "contacts.csv", "monitors.csv"] {
+        let (a, b) = (fs::read(whole.join(name)).unwrap(), fs::read(cut.join(name)).unwrap());
+        assert!(a == b, "{name} differs after resume");
+    }
+    assert_eq!(without_wall_time(&whole.join("steps.csv")), without_wall_time(&cut.join("steps.csv")));
+    fs::remove_dir_all(&whole).unwrap();
+    fs::remove_dir_all(&cut).unwrap();
+}
+
+/// The same for a scene with a connector (`examples/connector_bolt.toml`, 400 000 steps of about
+/// 12 µs, rows every 1 000th): `connectors.csv` too equals the uninterrupted run's byte for byte.
+#[test]
+fn resume_with_connectors_matches_an_uninterrupted_run() {
+    let steps = 400_000;
+    let bolt = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/connector_bolt.toml");
+    let every = ["--set", "output.every=1000"];
+    let (whole, cut) = (scratch("bolt-whole"), scratch("bolt-cut"));
+    assert!(start_scene(&bolt, &whole, steps, &every).wait().expect("uninterrupted run").success());
+    let mut child = start_scene(&bolt, &cut, steps, &[every[0], every[1], "--checkpoint-every", "20000"]);
+    wait_for(|| {
+        cut.join("checkpoint.toml").exists() && last_step(&cut.join("steps.csv")).unwrap_or(0) > 100_000
+    });
+    child.kill().expect("SIGKILL");
+    child.wait().expect("wait");
+    assert!(last_step(&cut.join("steps.csv")).unwrap() < steps, "the run ended before the kill");
+    let status = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(["resume", "-q"]).arg(&cut).status().unwrap();
+    assert!(status.success());
+    for name in ["bodies.csv", "contacts.csv", "monitors.csv", "connectors.csv"] {
         let (a, b) = (fs::read(whole.join(name)).unwrap(), fs::read(cut.join(name)).unwrap());
         assert!(a == b, "{name} differs after resume");
     }

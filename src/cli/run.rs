@@ -39,9 +39,11 @@ impl Writers {
         Ok(Writers { csv, connectors, vtk })
     }
 
+    /// One step's rows; `connectors.csv` before the CSV writer's files, whose `steps.csv` comes
+    /// last, so that `steps.csv` never names a step whose rows are not all written.
     fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
-        self.csv.write_step(world, rec)?;
         self.connectors.write_step(world, rec)?;
+        self.csv.write_step(world, rec)?;
         match &mut self.vtk {
             Some(vtk) => vtk.write_step(world, rec),
             None => Ok(()),
@@ -115,10 +117,6 @@ pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
         .map(|s| s.parse::<Override>().map_err(|e| miette!("{}: --set {s}: {e}", dir.display())))
         .collect::<Result<Vec<_>>>()?;
     let model = scene::parse_with(&checkpoint.scene, &checkpoint.scene_file, &overrides)?;
-    if !model.connectors.is_empty() {
-        // connectors.csv has no reopen yet: refuse rather than lose its rows
-        return Err(miette!("{}: resuming a scene with connectors is not supported yet", dir.display()));
-    }
     let mut world = World::new(model);
     for _ in 0..checkpoint.step {
         world.step().map_err(|e| miette!("replaying to the checkpoint: {e}"))?;
@@ -126,7 +124,7 @@ pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
     let m = &world.model;
     let csv = CsvWriter::reopen(dir, (m.output.every, m.output.steps_every), m.time.steps, checkpoint.step)?;
     // the ParaView series is not continued: its index would need the earlier frames' times
-    let connectors = ConnectorWriter::create(dir, &world, false)?;
+    let connectors = ConnectorWriter::reopen(dir, &world, checkpoint.step)?;
     let mut writers = Writers { csv, connectors, vtk: None };
     writers.log(&format!("resumed at step {} (vtk/ not continued)", checkpoint.step))?;
     drive(&mut world, &mut writers, Plan { out: dir, quiet, checkpoint: Some(checkpoint) })

@@ -2,7 +2,7 @@
 //! scene with connectors. A broken connector is written once more, at the step it broke (state
 //! `broken`, force 0: a broken bolt transmits nothing in the step it breaks in), then no longer.
 
-use super::csv::{Num, OutputError};
+use super::csv::{Num, OutputError, truncate_after_step};
 use crate::connector::Connector;
 use crate::world::{StepRecord, World};
 use std::fs::{self, File};
@@ -38,6 +38,21 @@ impl ConnectorWriter {
             let mut w = BufWriter::new(File::create(&path).map_err(io_err)?);
             writeln!(w, "{HEADER}").map_err(io_err)?;
             Some(w)
+        };
+        let every = world.model.output.every.max(1);
+        Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })
+    }
+
+    /// Reopens `DIR/connectors.csv` of an interrupted run for `pbdda resume`: rows after `step`
+    /// (and a cut last row) are dropped, and new rows are appended.
+    pub fn reopen(dir: &Path, world: &World, step: usize) -> Result<ConnectorWriter, OutputError> {
+        let path = dir.join(FILE);
+        let io_err = |source| OutputError::Io { path: path.clone(), source };
+        let out = if world.connectors.is_empty() {
+            None
+        } else {
+            truncate_after_step(&path, step).map_err(io_err)?;
+            Some(BufWriter::new(fs::OpenOptions::new().append(true).open(&path).map_err(io_err)?))
         };
         let every = world.model.output.every.max(1);
         Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })

@@ -284,7 +284,7 @@ impl CsvWriter {
 
 /// Cuts the CSV file at `path` after its last row of a step ≤ `step` (the header kept). Rows
 /// are in step order, so this keeps a prefix; a cut last row (no newline) goes too.
-fn truncate_after_step(path: &Path, step: usize) -> io::Result<()> {
+pub(crate) fn truncate_after_step(path: &Path, step: usize) -> io::Result<()> {
     let text = fs::read(path)?;
     let mut keep = 0;
     let mut first = true;
