@@ -96,8 +96,14 @@ impl World {
         let h = self.h;
         let bodies: f64 = (self.bodies.iter().filter(|b| !b.fixed))
             .map(|b| {
-                let v = b.velocity.as_slice();
-                let speed = v[0].hypot(v[1]) + v[2].abs() * b.reach;
+                let speed = match &b.mesh {
+                    // a mesh's velocity is per node: its fastest node
+                    Some(fe) => fe.velocity.chunks(2).map(|v| v[0].hypot(v[1])).fold(0.0, f64::max),
+                    None => {
+                        let v = b.velocity.as_slice();
+                        v[0].hypot(v[1]) + v[2].abs() * b.reach
+                    }
+                };
                 b.mass * (g + 2.0 * speed / h)
             })
             .sum();
