@@ -5,7 +5,7 @@
 //! deformable polygon `(u0, v0, θ, εx, εy, γxy)`; a fixed body has none.
 
 use crate::contact::BodyShape;
-use crate::geometry::{Vec2, cross, polygon_moments};
+use crate::geometry::{Vec2, convex_flags, cross, loop_contact_flags, polygon_moments};
 use crate::mesh::body::MeshBody;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
@@ -481,27 +481,6 @@ pub fn constitutive(e: f64, nu: f64, plane: Plane) -> Matrix3<f64> {
             )
         }
     }
-}
-
-/// Which vertices of a mesh's outer loop make contacts (math note §9.2: every boundary node
-/// carries its own contact): the convex ones and the straight ones, which on a rigid polygon
-/// would never be nearest to another body but on a mesh are nodes that move on their own. A
-/// straight node that the load pushes slightly inwards stays a contact node: up to 3° (sin = 0.05)
-/// past 180°.
-pub fn loop_contact_flags(v: &[Vec2]) -> Vec<bool> {
-    let n = v.len();
-    (0..n)
-        .map(|i| {
-            let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
-            cross(a, b) > -0.05 * a.norm() * b.norm()
-        })
-        .collect()
-}
-
-/// Convex flags of a counter-clockwise polygon's vertices (interior angle below 180°).
-pub fn convex_flags(v: &[Vec2]) -> Vec<bool> {
-    let n = v.len();
-    (0..n).map(|i| cross(v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]) > 0.0).collect()
 }
 
 #[cfg(test)]

@@ -72,6 +72,9 @@ pub struct Connector {
     /// Bolt and finite spring: the unstressed length, so that the axial force after each step is
     /// recomputed from the anchors' true distance (math note §10.7).
     rest_length: Option<f64>,
+    /// Per anchor on a mesh body: its triangle and area coordinates, fixed from t = 0 (the
+    /// anchor is a material point; see [`Connector::held_in`]).
+    held: [Option<(usize, [f64; 3])>; 2],
 }
 
 /// One step's element: `e = G[0] d_1[cols[0]] + G[1] d_2[cols[1]]`, stiffness `k`, carried
@@ -116,8 +119,24 @@ impl Connector {
             broken: false,
             broken_at: None,
             rest_length: None,
+            held: [None, None],
         }
         .with_rest_length()
+    }
+
+    /// Records the triangle and area coordinates of each anchor inside a mesh body, once: the
+    /// anchor then moves with those three nodes without a search per use. Without it an anchor
+    /// on a mesh is located again at every use.
+    pub fn held_in(mut self, bodies: &[Body]) -> Connector {
+        for k in 0..2 {
+            self.held[k] = bodies[self.bodies[k]].mesh.as_ref().and_then(|fe| fe.locate(self.anchors[k]));
+        }
+        self
+    }
+
+    /// Anchor k's map `u(A_k) = G d[cols]` ([`end_map`]).
+    fn end(&self, bodies: &[Body], k: usize) -> (Vec<usize>, DMatrix<f64>) {
+        end_map(&bodies[self.bodies[k]], self.anchors[k], self.held[k])
     }
 
     /// The rest length that gives the pretension at the initial length: l_r = l0 − P0/k for a
@@ -258,7 +277,7 @@ impl Connector {
             }
             let x = self.anchors[k];
             self.anchors[k] = if body.mesh.is_some() {
-                let (cols, g) = end_map(body, x);
+                let (cols, g) = self.end(bodies_before, k);
                 let u = &g * DVector::from_iterator(cols.len(), cols.iter().map(|&i| d(b, i)));
                 x + Vec2::new(u[0], u[1])
             } else {
@@ -329,10 +348,9 @@ impl Connector {
     /// This step's element (see the module table).
     fn element(&self, bodies: &[Body]) -> Element {
         let b = [&bodies[self.bodies[0]], &bodies[self.bodies[1]]];
-        let [a1, a2] = self.anchors;
         match (self.kind, self.force) {
             (ConnectorKind::Spring { stiffness }, ConnectorForce::Isotropic(f)) => {
-                let ([c1, c2], [g1, g2]) = ends(b, [a1, a2]);
+                let ((c1, g1), (c2, g2)) = (self.end(bodies, 0), self.end(bodies, 1));
                 Element {
                     g: [-g1, g2],
                     cols: [c1, c2],
@@ -353,7 +371,7 @@ impl Connector {
                 // (math note §10.7)
                 let ll = nalgebra::Matrix2::new(l.x * l.x, l.x * l.y, l.x * l.y, l.y * l.y);
                 let km = ll * k + (nalgebra::Matrix2::identity() - ll) * (n.max(0.0) / len);
-                let ([c1, c2], [g1, g2]) = ends(b, [a1, a2]);
+                let ((c1, g1), (c2, g2)) = (self.end(bodies, 0), self.end(bodies, 1));
                 Element {
                     g: [-g1, g2],
                     cols: [c1, c2],
@@ -388,29 +406,18 @@ impl Connector {
     }
 }
 
-/// The two anchors' maps [`end_map`].
-fn ends(b: [&Body; 2], x: [Vec2; 2]) -> ([Vec<usize>; 2], [DMatrix<f64>; 2]) {
-    let ((c1, g1), (c2, g2)) = (end_map(b[0], x[0]), end_map(b[1], x[1]));
-    ([c1, c2], [g1, g2])
-}
-
 /// How the material point x of a body moves, `u(x) = G d[cols]` (body-local DOFs): `T_b(x)`
 /// over all DOFs for a block or particle (paper eqs. 3, 5, 7); for a mesh body the area
-/// coordinates of the triangle holding x on its nodes' free DOFs (math note §9.2).
-fn end_map(body: &Body, x: Vec2) -> (Vec<usize>, DMatrix<f64>) {
+/// coordinates of the triangle holding x (`held`, else located now) on its nodes' free DOFs
+/// (math note §9.2).
+fn end_map(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>, DMatrix<f64>) {
     let Some(fe) = body.mesh.as_ref().filter(|_| !body.fixed) else {
         return ((0..body.ndof()).collect(), t_rows(body, x));
     };
-    let Some((e, l)) = fe.locate(x) else { return (Vec::new(), DMatrix::zeros(2, 0)) };
-    let mut cols = Vec::with_capacity(6);
-    let mut w = Vec::with_capacity(3);
-    for (k, &n) in fe.triangles[e].iter().enumerate() {
-        if let Some(dof) = fe.pattern.dof(n) {
-            cols.extend([dof, dof + 1]);
-            w.push(l[k]);
-        }
-    }
-    let g = DMatrix::from_fn(2, cols.len(), |r, c| if c % 2 == r { w[c / 2] } else { 0.0 });
+    let Some((e, l)) = held.or_else(|| fe.locate(x)) else { return (Vec::new(), DMatrix::zeros(2, 0)) };
+    let (dofs, w): (Vec<usize>, Vec<f64>) = fe.point_dofs(e, l).unzip();
+    let cols = dofs.iter().flat_map(|&d| [d, d + 1]).collect();
+    let g = DMatrix::from_fn(2, 2 * w.len(), |r, c| if c % 2 == r { w[c / 2] } else { 0.0 });
     (cols, g)
 }
 

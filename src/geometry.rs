@@ -20,6 +20,31 @@ pub fn cw(a: Vec2) -> Vec2 {
     Vec2::new(a.y, -a.x)
 }
 
+/// Sine of the turn below which a loop vertex counts as straight (3°): a mesh node that the load
+/// pushes slightly inwards stays a contact node (`loop_contact_flags`), and a particle presses
+/// such a node along the surface normal (`contact::particle`, math note §9.2).
+pub const STRAIGHT_SINE: f64 = 0.05;
+
+/// Which vertices of a mesh's outer loop make contacts (math note §9.2: every boundary node
+/// carries its own contact): the convex ones and the straight ones (up to [`STRAIGHT_SINE`]
+/// past 180°), which on a rigid polygon would never be nearest to another body but on a mesh
+/// are nodes that move on their own.
+pub fn loop_contact_flags(v: &[Vec2]) -> Vec<bool> {
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
+            cross(a, b) > -STRAIGHT_SINE * a.norm() * b.norm()
+        })
+        .collect()
+}
+
+/// Convex flags of a counter-clockwise polygon's vertices (interior angle below 180°).
+pub fn convex_flags(v: &[Vec2]) -> Vec<bool> {
+    let n = v.len();
+    (0..n).map(|i| cross(v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]) > 0.0).collect()
+}
+
 /// Area moments of a polygon about its centroid (math note §2.1, Shi's simplex integration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PolygonMoments {

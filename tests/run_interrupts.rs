@@ -145,53 +145,49 @@ fn without_wall_time(path: &Path) -> String {
     text.lines().map(|l| l.rsplit_once(',').unwrap().0.to_owned() + "\n").collect()
 }
 
-#[test]
-fn resume_matches_an_uninterrupted_run() {
-    let steps = 6000;
-    let (whole, cut) = (scratch("whole"), scratch("cut"));
-    let status = start(&whole, steps, &[]).wait().expect("uninterrupted run");
-    assert!(status.success());
-    let mut child = start(&cut, steps, &["--checkpoint-every", "700"]);
+/// A run of `scene` killed (SIGKILL) once it has a checkpoint and has written past step
+/// `kill_after`, then resumed, writes the same files as an uninterrupted run: `files` byte for
+/// byte, steps.csv without its wall-time column.
+fn kill_and_resume(
+    name: &str,
+    scene: &Path,
+    steps: usize,
+    every: &[&str],
+    kill_after: usize,
+    files: &[&str],
+) {
+    let (whole, cut) = (scratch(&format!("{name}-whole")), scratch(&format!("{name}-cut")));
+    assert!(start_scene(scene, &whole, steps, every).wait().expect("uninterrupted run").success());
+    let mut child = start_scene(scene, &cut, steps, every);
     wait_for(|| {
-        cut.join("checkpoint.toml").exists() && last_step(&cut.join("steps.csv")).unwrap_or(0) > 1500
+        cut.join("checkpoint.toml").exists() && last_step(&cut.join("steps.csv")).unwrap_or(0) > kill_after
     });
     child.kill().expect("SIGKILL");
     child.wait().expect("wait");
     assert!(last_step(&cut.join("steps.csv")).unwrap() < steps, "the run ended before the kill");
     let status = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(["resume", "-q"]).arg(&cut).status().unwrap();
     assert!(status.success());
-    for name in ["bodies.csv", "contacts.csv", "monitors.csv"] {
-        let (a, b) = (fs::read(whole.join(name)).unwrap(), fs::read(cut.join(name)).unwrap());
-        assert!(a == b, "{name} differs after resume");
+    for file in files {
+        let (a, b) = (fs::read(whole.join(file)).unwrap(), fs::read(cut.join(file)).unwrap());
+        assert!(a == b, "{file} differs after resume");
     }
     assert_eq!(without_wall_time(&whole.join("steps.csv")), without_wall_time(&cut.join("steps.csv")));
     fs::remove_dir_all(&whole).unwrap();
     fs::remove_dir_all(&cut).unwrap();
 }
 
+#[test]
+fn resume_matches_an_uninterrupted_run() {
+    let files = ["bodies.csv", "contacts.csv", "monitors.csv"];
+    kill_and_resume("staircase", &scene(), 6000, &["--checkpoint-every", "700"], 1500, &files);
+}
+
 /// The same for a scene with a connector (`examples/connector_bolt.toml`, 400 000 steps of about
 /// 12 µs, rows every 1 000th): `connectors.csv` too equals the uninterrupted run's byte for byte.
 #[test]
 fn resume_with_connectors_matches_an_uninterrupted_run() {
-    let steps = 400_000;
     let bolt = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/connector_bolt.toml");
-    let every = ["--set", "output.every=1000"];
-    let (whole, cut) = (scratch("bolt-whole"), scratch("bolt-cut"));
-    assert!(start_scene(&bolt, &whole, steps, &every).wait().expect("uninterrupted run").success());
-    let mut child = start_scene(&bolt, &cut, steps, &[every[0], every[1], "--checkpoint-every", "20000"]);
-    wait_for(|| {
-        cut.join("checkpoint.toml").exists() && last_step(&cut.join("steps.csv")).unwrap_or(0) > 100_000
-    });
-    child.kill().expect("SIGKILL");
-    child.wait().expect("wait");
-    assert!(last_step(&cut.join("steps.csv")).unwrap() < steps, "the run ended before the kill");
-    let status = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(["resume", "-q"]).arg(&cut).status().unwrap();
-    assert!(status.success());
-    for name in ["bodies.csv", "contacts.csv", "monitors.csv", "connectors.csv"] {
-        let (a, b) = (fs::read(whole.join(name)).unwrap(), fs::read(cut.join(name)).unwrap());
-        assert!(a == b, "{name} differs after resume");
-    }
-    assert_eq!(without_wall_time(&whole.join("steps.csv")), without_wall_time(&cut.join("steps.csv")));
-    fs::remove_dir_all(&whole).unwrap();
-    fs::remove_dir_all(&cut).unwrap();
+    let every = ["--set", "output.every=1000", "--checkpoint-every", "20000"];
+    let files = ["bodies.csv", "contacts.csv", "monitors.csv", "connectors.csv"];
+    kill_and_resume("bolt", &bolt, 400_000, &every, 100_000, &files);
 }

@@ -4,7 +4,7 @@
 
 use super::narrow::{Particle, Polygon, Tolerances, plain_contact};
 use super::{ContactGeom, ContactKey, ContactKind, Feature};
-use crate::geometry::{Vec2, cross};
+use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
 
 /// Contacts between two particles (P-P, paper Figure 2): inside a ring's hole when the centre
 /// of one particle lies in the hole of the other, otherwise outside.
@@ -89,8 +89,8 @@ pub fn particle_block(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec
 /// P-L (math note §9.2): a particle against a mesh's boundary loop. Every contact node within
 /// the threshold that faces the particle carries its own contact, so a pressed particle bears on
 /// every node under it and the nodal forces resolve the pressure (a rigid polygon's vertex cannot
-/// move against its edges, a mesh node can). A node on a straight stretch (turn below 3°, the
-/// band of `loop_contact_flags`) pushes along the surface normal there, the mean of its edges'
+/// move against its edges, a mesh node can). A node on a straight stretch (turn within
+/// [`STRAIGHT_SINE`], the band of `loop_contact_flags`) pushes along the surface normal there, the mean of its edges'
 /// normals, with the gap measured along it to the circle; a corner node as case III, along the
 /// line to the centre. The edges meet the particle as in case I (the true normal at the foot of
 /// the centre, so that a rigid particle bouncing on a stiff mesh reflects about the surface),
@@ -128,7 +128,7 @@ fn node_contact(p: &Particle, b: &Polygon, k: usize) -> Option<(Vec2, f64, Vec2)
     let d = p.center - v;
     let (n_in, n_out) = (b.edge(b.prev(k)).n_out, b.edge(k).n_out);
     let (t_in, t_out) = (b.edge(b.prev(k)).t, b.edge(k).t);
-    let straight = cross(t_in, t_out).abs() <= 0.05;
+    let straight = cross(t_in, t_out).abs() <= STRAIGHT_SINE;
     if straight {
         let nrm = (n_in + n_out).normalize();
         let along = d.dot(&nrm);

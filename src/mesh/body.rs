@@ -194,15 +194,19 @@ impl MeshBody {
             .max_by(|a, b| worst(&a.1).total_cmp(&worst(&b.1)))
     }
 
+    /// How the point with area coordinates `l` in triangle `e` moves: `(dof of u_x, weight)` of
+    /// each of the triangle's free nodes, `u = Σ L_i u_i` (math note §9.2, eqs. 99-101).
+    pub fn point_dofs(&self, e: usize, l: [f64; 3]) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.triangles[e].iter().zip(l).filter_map(|(&n, w)| self.pattern.dof(n).map(|d| (d, w)))
+    }
+
     /// Adds a point force at `x` (current configuration) to `f`: `L_i F` on the nodes of the
     /// triangle holding x (math note §9.2, eqs. 99-101).
     pub fn add_point_load(&self, f: &mut [f64], x: Vec2, force: Vec2) {
         let Some((e, l)) = self.locate(x) else { return };
-        for (k, &n) in self.triangles[e].iter().enumerate() {
-            if let Some(d) = self.pattern.dof(n) {
-                f[d] += l[k] * force.x;
-                f[d + 1] += l[k] * force.y;
-            }
+        for (d, w) in self.point_dofs(e, l) {
+            f[d] += w * force.x;
+            f[d + 1] += w * force.y;
         }
     }
 

@@ -37,11 +37,6 @@ impl World {
         }
     }
 
-    /// DOF i of body b in the global vector `v`.
-    fn body_dof<'a>(&'a self, v: &'a [f64]) -> impl Fn(usize, usize) -> f64 + 'a {
-        move |b, i| v[self.dofs.range(b).start + i]
-    }
-
     /// Connectors whose tension after the increment `dbar` (a global DOF vector) would exceed
     /// their strength: they break for good (math note §6), and the caller solves the step again
     /// without them.
@@ -49,7 +44,7 @@ impl World {
         let mut events = Vec::new();
         for k in 0..self.connectors.len() {
             let mut trial = self.connectors[k].clone();
-            trial.update(&self.bodies, &self.body_dof(dbar));
+            trial.update(&self.bodies, &body_dof(&self.dofs, dbar));
             if trial.exceeds_strength() {
                 let c = &mut self.connectors[k];
                 c.break_off();
@@ -67,11 +62,15 @@ impl World {
     /// After the step, before the bodies move: forces from the increments, anchors moved with
     /// their bodies (the bodies are still in the step-start state the stiffness was built on).
     pub(super) fn update_connectors(&mut self, dbar: &[f64]) {
-        let (bodies, dofs) = (&self.bodies, &self.dofs);
-        let d = |b: usize, i: usize| dbar[dofs.range(b).start + i];
+        let (bodies, d) = (&self.bodies, body_dof(&self.dofs, dbar));
         for c in &mut self.connectors {
             c.update(bodies, &d);
             c.move_anchors(bodies, &d);
         }
     }
+}
+
+/// DOF i of body b in the global vector `v`, as `Connector::update` and `move_anchors` take it.
+fn body_dof<'a>(dofs: &'a DofMap, v: &'a [f64]) -> impl Fn(usize, usize) -> f64 + 'a {
+    move |b, i| v[dofs.range(b).start + i]
 }

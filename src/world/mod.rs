@@ -139,7 +139,8 @@ impl World {
         // Default d0: a tenth of the smallest feature, so that feature tests stay unambiguous
         // (math note §5); enlarged per step when motion needs it.
         let threshold = model.contact.threshold.unwrap_or(0.1 * feature);
-        let connectors: Vec<Connector> = model.connectors.iter().map(Connector::from_spec).collect();
+        let connectors: Vec<Connector> =
+            model.connectors.iter().map(|s| Connector::from_spec(s).held_in(&bodies)).collect();
         let mut world = World {
             model,
             settings,
