@@ -1,6 +1,6 @@
 // Hertz half-block (math note 9.5): x in [-2, 2], y in [-2, 0]; the disk touches the top at (0, 0).
-// Element size lc_fine within 0.15 m of the contact point, growing to lc far away.
-DefineConstant[ lc = 0.25, lc_fine = 0.01 ];
+// Element size lc_fine within r_fine of the contact point, growing to lc 1.5 m away.
+DefineConstant[ lc = 0.25, lc_fine = 0.001, r_fine = 0.03 ];
 Point(1) = {-2, -2, 0, lc};
 Point(2) = {2, -2, 0, lc};
 Point(3) = {2, 0, 0, lc};
@@ -19,7 +19,7 @@ Field[2] = Threshold;
 Field[2].InField = 1;
 Field[2].SizeMin = lc_fine;
 Field[2].SizeMax = lc;
-Field[2].DistMin = 0.15;
+Field[2].DistMin = r_fine;
 Field[2].DistMax = 1.5;
 Background Field = 2;
 Mesh.MeshSizeExtendFromBoundary = 0;

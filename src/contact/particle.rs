@@ -115,10 +115,24 @@ fn particle_loop(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec<Cont
         let e = b.edge(f);
         let s = e.along(p.center);
         let near = 0.01 * e.len;
-        if !((s <= near && touched[f]) || (s >= e.len - near && touched[b.next(f)])) {
+        let (start, end) = (touched[f], touched[b.next(f)]);
+        let bracketed = start && end && sagitta(p.outer, e.len) <= SAGITTA_FRACTION * tol.threshold;
+        if !(bracketed || (s <= near && start) || (s >= e.len - near && end)) {
             particle_edge(p, b, f, tol, out);
         }
     }
+}
+
+/// Largest depth, as a fraction of d0, by which a particle may sink between two loop nodes that
+/// both carry contacts before the edge between them needs its own (math note §9.2): a fifth of
+/// the adaptive step's penetration bound (5 % of d0, math note §10.8).
+const SAGITTA_FRACTION: f64 = 0.01;
+
+/// Depth of a circle of radius `r` beyond a chord of length `len` whose ends are on it:
+/// r - sqrt(r² - len²/4); infinite when the chord is longer than the diameter.
+fn sagitta(r: f64, len: f64) -> f64 {
+    let h2 = r * r - 0.25 * len * len;
+    if h2 > 0.0 { r - h2.sqrt() } else { f64::INFINITY }
 }
 
 /// Node k's contact with particle p: (normal from the loop towards the particle, gap, the
@@ -331,6 +345,31 @@ mod tests {
         let c = contacts(0, 1, &rect(-5.0, -10.0, 5.0, 0.0), &ring(0.0, 3.04, 3.0, 1.0), D0);
         assert_eq!(c.len(), 1);
         check(&c[0], key(1, Outer, 0, Edge(2)), PB, (0.0, 1.0), 0.04, (0.0, 0.02), TOL);
+    }
+
+    /// P-L (math note §9.2): a loop whose top has nodes at x = ±0.05 (edge 3 between them,
+    /// L = 0.1), corners at x = ±3 (beyond d0 = 0.1 of the disks). A disk R = 10 resting on it
+    /// at gap 0.001 under its centre reaches both nodes (gap 0.001 + 10 − √(100 − 0.0025)) and
+    /// sinks between them by at most the sagitta L²/(8R) = 1.25e-4 ≤ 1 % of d0: the two node
+    /// contacts only, along the surface normal +y. A disk R = 0.06 at gap 0.01 also reaches both
+    /// nodes (0.07 − √(0.0036 − 0.0025) = 0.0368) but would sink between them by
+    /// 0.06 − √0.0011 = 0.0268 > 1 % of d0: edge 3 keeps its case-I contact, g0 = 0.01.
+    #[test]
+    fn loop_edge_between_two_node_contacts() {
+        let v: Vec<Vec2> = [(-3., -1.), (3., -1.), (3., 0.), (0.05, 0.), (-0.05, 0.), (-3., 0.)]
+            .iter()
+            .map(|&(x, y)| Vec2::new(x, y))
+            .collect();
+        let convex = crate::geometry::loop_contact_flags(&v);
+        let mesh = super::super::BodyShape::Polygon { vertices: v, convex, nodes: true };
+        let c = contacts(0, 1, &mesh, &disk(0.0, 10.001, 10.0), D0);
+        let node_gap = 0.001 + 10.0 - (100.0f64 - 0.0025).sqrt();
+        assert_eq!(c.len(), 2, "{c:?}");
+        check(&c[0], key(1, Outer, 0, Vertex(3)), PB, (0.0, 1.0), node_gap, (0.05, 0.5 * node_gap), TOL);
+        check(&c[1], key(1, Outer, 0, Vertex(4)), PB, (0.0, 1.0), node_gap, (-0.05, 0.5 * node_gap), TOL);
+        let c = contacts(0, 1, &mesh, &disk(0.0, 0.07, 0.06), D0);
+        assert_eq!(c.len(), 3, "{c:?}");
+        check(&c[2], key(1, Outer, 0, Edge(3)), PB, (0.0, 1.0), 0.01, (0.0, 0.005), TOL);
     }
 
     mod random_particle_block {
