@@ -4,7 +4,7 @@
 //! DOF layouts (math note §0): rigid `(u0, v0, θ)`; deformable particle `(u0, v0, θ, ε)`;
 //! deformable polygon `(u0, v0, θ, εx, εy, γxy)`; a fixed body has none.
 
-use crate::contact::BodyShape;
+use crate::contact::{BodyShape, HoleLoop};
 use crate::geometry::{Vec2, convex_flags, cross, loop_contact_flags, polygon_moments};
 use crate::mesh::body::MeshBody;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
@@ -435,18 +435,27 @@ impl Body {
                 vertices: vertices.clone(),
                 convex: convex.clone(),
                 nodes: self.mesh.is_some(),
+                holes: self.mesh.as_ref().map_or_else(Vec::new, |fe| {
+                    let loops = fe.hole_outlines().into_iter();
+                    loops.map(|v| HoleLoop { convex: loop_contact_flags(&v), vertices: v }).collect()
+                }),
             },
         }
     }
 
-    /// Smallest feature size: particle radius (ring wall or hole) or shortest edge.
+    /// Smallest feature size: particle radius (ring wall or hole) or shortest edge (of a mesh's
+    /// holes too).
     pub fn feature_size(&self) -> f64 {
+        let shortest = |v: &[Vec2]| {
+            (0..v.len()).map(|i| (v[(i + 1) % v.len()] - v[i]).norm()).fold(f64::INFINITY, f64::min)
+        };
         match &self.outline {
             Outline::Disk { radius } => *radius,
             Outline::Ring { outer, inner } => inner.min(outer - inner),
-            Outline::Polygon { vertices, .. } => (0..vertices.len())
-                .map(|i| (vertices[(i + 1) % vertices.len()] - vertices[i]).norm())
-                .fold(f64::INFINITY, f64::min),
+            Outline::Polygon { vertices, .. } => {
+                let holes = self.mesh.as_ref().map_or_else(Vec::new, |fe| fe.hole_outlines());
+                holes.iter().map(|h| shortest(h)).fold(shortest(vertices), f64::min)
+            }
         }
     }
 

@@ -193,7 +193,12 @@ mod tests {
                                 c + r * Vec2::new(a.cos(), a.sin())
                             })
                             .collect();
-                        BodyShape::Polygon { vertices, convex: vec![true; n], nodes: false }
+                        BodyShape::Polygon {
+                            vertices,
+                            convex: vec![true; n],
+                            nodes: false,
+                            holes: Vec::new(),
+                        }
                     }
                 };
                 (shape, fixed)

@@ -47,8 +47,7 @@ fn joint(x: &Polygon, e: usize, y: &Polygon, f: usize, tol: &Tolerances, out: &m
     if ends.iter().any(|c| matches!(c, End::Invalid)) {
         return;
     }
-    let key =
-        JointKey { body_lo: x.body as u32, edge_lo: e as u32, body_hi: y.body as u32, edge_hi: f as u32 };
+    let key = JointKey { body_lo: x.body as u32, edge_lo: x.id(e), body_hi: y.body as u32, edge_hi: y.id(f) };
     for end in ends {
         if let End::Contact(mut c) = end {
             c.joint = Some(key);

@@ -35,7 +35,20 @@ pub enum BodyShape {
         /// A mesh's boundary loop: every flagged vertex is a node that moves on its own and
         /// carries its own contact with a particle (math note §9.2).
         nodes: bool,
+        /// A mesh's holes (empty for a block); contact features number their vertices and
+        /// edges after the outer loop's, hole by hole.
+        holes: Vec<HoleLoop>,
     },
+}
+
+/// The boundary loop of a hole in a mesh (math note §9.2): clockwise, the material on its left,
+/// so that its edges' outward normals point into the hole.
+#[derive(Debug, Clone)]
+pub struct HoleLoop {
+    pub vertices: Vec<Vec2>,
+    /// As `BodyShape::Polygon::convex`: a vertex where the material's interior angle is at
+    /// most 180° (or nearly straight).
+    pub convex: Vec<bool>,
 }
 
 /// `PP` particle-particle, `PB` particle-block, `BB` block-block; on a mesh's boundary loop (math

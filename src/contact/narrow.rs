@@ -40,16 +40,26 @@ pub fn pair_contacts(
     match (Body::of(i, shape_i), Body::of(j, shape_j)) {
         (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, &tol, out),
         (Body::Particle(p), Body::Polygon(b)) | (Body::Polygon(b), Body::Particle(p)) => {
-            super::particle::particle_block(&p, &b, &tol, out)
+            for l in &b {
+                super::particle::particle_block(&p, l, &tol, out);
+            }
         }
-        (Body::Polygon(a), Body::Polygon(b)) => super::block::block_block(&a, &b, &tol, out),
+        (Body::Polygon(a), Body::Polygon(b)) => {
+            // two holes never meet: a body in a hole of the other meets it with its outer loop
+            for (la, lb) in a.iter().flat_map(|la| b.iter().map(move |lb| (la, lb))) {
+                if !(la.hole && lb.hole) {
+                    super::block::block_block(la, lb, &tol, out);
+                }
+            }
+        }
     }
 }
 
-/// A body as the narrow phase sees it.
+/// A body as the narrow phase sees it: a particle, or the loops of a polygon (its outline, then
+/// a mesh's holes).
 enum Body<'a> {
     Particle(Particle),
-    Polygon(Polygon<'a>),
+    Polygon(Vec<Polygon<'a>>),
 }
 
 impl<'a> Body<'a> {
@@ -61,8 +71,15 @@ impl<'a> Body<'a> {
             BodyShape::Ring { center, outer, inner } => {
                 Body::Particle(Particle { body, center, outer, inner })
             }
-            BodyShape::Polygon { ref vertices, ref convex, nodes } => {
-                Body::Polygon(Polygon { nodes, ..Polygon::new(body, vertices, convex) })
+            BodyShape::Polygon { ref vertices, ref convex, nodes, ref holes } => {
+                let mut loops = vec![Polygon { nodes, ..Polygon::new(body, vertices, convex) }];
+                let mut first = vertices.len();
+                for h in holes {
+                    let hole = Polygon::new(body, &h.vertices, &h.convex);
+                    loops.push(Polygon { nodes, hole: true, first: first as u32, ..hole });
+                    first += h.vertices.len();
+                }
+                Body::Polygon(loops)
             }
         }
     }
@@ -128,6 +145,10 @@ pub(crate) struct Polygon<'a> {
     pub convex: &'a [bool],
     /// A mesh's boundary loop (see [`BodyShape::Polygon`]).
     pub nodes: bool,
+    /// A hole of a mesh (clockwise; its edges' outward normals point into the hole).
+    pub hole: bool,
+    /// The body's feature number of this loop's vertex 0 and edge 0 (see [`Polygon::id`]).
+    pub first: u32,
     /// `edges[k]`: edge k, computed once per pair. A zero-length edge has a NaN direction, so
     /// every test on it fails and it makes no contact.
     edges: Vec<Edge>,
@@ -166,7 +187,13 @@ impl<'a> Polygon<'a> {
                 Edge { start, t, len, n_out: cw(t) }
             })
             .collect();
-        Polygon { body, vertices, convex, nodes: false, edges }
+        Polygon { body, vertices, convex, nodes: false, hole: false, first: 0, edges }
+    }
+
+    /// The body's number of vertex or edge k of this loop, for its contact features: loops
+    /// are numbered in turn, the outline first.
+    pub fn id(&self, k: usize) -> u32 {
+        self.first + k as u32
     }
 
     pub fn vertex_count(&self) -> usize {
@@ -249,9 +276,9 @@ pub(crate) fn vertex_edge_geom(x: &Polygon, k: usize, y: &Polygon, f: usize) -> 
     let g0 = e.height(v);
     let key = ContactKey {
         a: y.body as u32,
-        fa: Feature::Edge(f as u32),
+        fa: Feature::Edge(y.id(f)),
         b: x.body as u32,
-        fb: Feature::Vertex(k as u32),
+        fb: Feature::Vertex(x.id(k)),
     };
     plain_contact(key, ContactKind::BB, v - 0.5 * g0 * e.n_out, -e.n_out, g0)
 }

@@ -66,10 +66,10 @@ fn in_hole(p: &Particle, q: &Particle, tol: &Tolerances, out: &mut Vec<ContactGe
 /// points of a polygon farthest from a centre are on its convex hull, and a segment between
 /// two points inside the hole stays inside it); otherwise the outer circle meets the edges
 /// (case I) and the convex vertices (case III).
-/// Case II (a particle against the edge of a hole in a block) does not arise: our polygons
-/// have no holes.
+/// Case II (a particle against the edge of a hole in a block) is case I on a mesh's hole loop,
+/// whose edges' outward normals point into the hole (math note §9.2).
 pub fn particle_block(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
-    if p.is_ring() && hole_holds(p, b) {
+    if p.is_ring() && !b.hole && hole_holds(p, b) {
         for k in (0..b.vertex_count()).filter(|&k| b.convex[k]) {
             vertex_in_hole(p, b, k, tol, out);
         }
@@ -106,7 +106,7 @@ fn particle_loop(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec<Cont
                 a: p.body as u32,
                 fa: Feature::Outer,
                 b: b.body as u32,
-                fb: Feature::Vertex(k as u32),
+                fb: Feature::Vertex(b.id(k)),
             };
             out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + b.vertices[k]), nrm, g0));
         }
@@ -184,7 +184,7 @@ fn particle_edge(p: &Particle, b: &Polygon, f: usize, tol: &Tolerances, out: &mu
     let foot = e.start + s * e.t;
     let cp = p.center - p.outer * e.n_out;
     let key =
-        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Edge(f as u32) };
+        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Edge(b.id(f)) };
     out.push(plain_contact(key, ContactKind::PB, 0.5 * (foot + cp), e.n_out, g0));
 }
 
@@ -204,7 +204,7 @@ fn particle_vertex(p: &Particle, b: &Polygon, k: usize, tol: &Tolerances, out: &
     let n = r / dist;
     let cp = p.center - p.outer * n;
     let key =
-        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Vertex(k as u32) };
+        ContactKey { a: p.body as u32, fa: Feature::Outer, b: b.body as u32, fb: Feature::Vertex(b.id(k)) };
     out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + v), n, g0));
 }
 
@@ -220,7 +220,7 @@ fn vertex_in_hole(p: &Particle, b: &Polygon, k: usize, tol: &Tolerances, out: &m
     let e = unit_from(v, p.center, p.inner);
     let cp = p.center + p.inner * e;
     let key =
-        ContactKey { a: p.body as u32, fa: Feature::Inner, b: b.body as u32, fb: Feature::Vertex(k as u32) };
+        ContactKey { a: p.body as u32, fa: Feature::Inner, b: b.body as u32, fb: Feature::Vertex(b.id(k)) };
     out.push(plain_contact(key, ContactKind::PB, 0.5 * (cp + v), e, g0));
 }
 
@@ -361,7 +361,7 @@ mod tests {
             .map(|&(x, y)| Vec2::new(x, y))
             .collect();
         let convex = crate::geometry::loop_contact_flags(&v);
-        let mesh = super::super::BodyShape::Polygon { vertices: v, convex, nodes: true };
+        let mesh = super::super::BodyShape::Polygon { vertices: v, convex, nodes: true, holes: Vec::new() };
         let c = contacts(0, 1, &mesh, &disk(0.0, 10.001, 10.0), D0);
         let node_gap = 0.001 + 10.0 - (100.0f64 - 0.0025).sqrt();
         assert_eq!(c.len(), 2, "{c:?}");
@@ -370,6 +370,25 @@ mod tests {
         let c = contacts(0, 1, &mesh, &disk(0.0, 0.07, 0.06), D0);
         assert_eq!(c.len(), 3, "{c:?}");
         check(&c[2], key(1, Outer, 0, Edge(3)), PB, (0.0, 1.0), 0.01, (0.0, 0.005), TOL);
+    }
+
+    /// A disk in a mesh's hole (math note §9.2): outer square [-3,3]² (vertices 0-3) around a
+    /// clockwise square hole [-1,1]² (vertices 4-7: (-1,-1), (-1,1), (1,1), (1,-1)); the hole's
+    /// corners turn away from the material (not contact nodes). Disk R = 0.5 at (0, -0.48): the
+    /// hole's bottom edge (its edge 3, feature Edge(4 + 3)) from (1,-1) to (-1,-1) has outward
+    /// normal +y, into the hole: g0 = 0.52 - 0.5 = 0.02, foot (0,-1), point (0, -0.99).
+    #[test]
+    fn disk_in_a_mesh_hole() {
+        let pts = |p: &[(f64, f64)]| p.iter().map(|&(x, y)| Vec2::new(x, y)).collect::<Vec<_>>();
+        let outer = pts(&[(-3., -3.), (3., -3.), (3., 3.), (-3., 3.)]);
+        let hole = pts(&[(-1., -1.), (-1., 1.), (1., 1.), (1., -1.)]);
+        let flags = crate::geometry::loop_contact_flags;
+        let holes = vec![super::super::HoleLoop { convex: flags(&hole), vertices: hole }];
+        let mesh =
+            super::super::BodyShape::Polygon { convex: flags(&outer), vertices: outer, nodes: true, holes };
+        let c = contacts(0, 1, &mesh, &disk(0.0, -0.48, 0.5), D0);
+        assert_eq!(c.len(), 1, "{c:?}");
+        check(&c[0], key(1, Outer, 0, Edge(7)), PB, (0.0, 1.0), 0.02, (0.0, -0.99), TOL);
     }
 
     mod random_particle_block {

@@ -17,7 +17,7 @@ pub fn polygon_of(vertices: Vec<Vec2>) -> BodyShape {
         cross(v - p, q - v)
     };
     let convex = (0..n).map(|k| turn(k) > 0.0).collect();
-    BodyShape::Polygon { vertices, convex, nodes: false }
+    BodyShape::Polygon { vertices, convex, nodes: false, holes: Vec::new() }
 }
 
 /// Axis-aligned rectangle [x0,x1]×[y0,y1], CCW from (x0,y0).

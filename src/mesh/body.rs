@@ -29,8 +29,9 @@ pub struct MeshBody {
     pub has_fixed: bool,
     /// Outer boundary loop (node indices, counter-clockwise): the polygon contacts see (§9.2).
     pub outer: Vec<usize>,
-    /// Number of holes (boundary loops besides the outer one); contacts are not detected on them.
-    pub holes: usize,
+    /// The holes' boundary loops (node indices, clockwise, material on their left): contacts are
+    /// detected on them as on the outer loop (§9.2).
+    pub holes: Vec<Vec<usize>>,
     /// Velocity per DOF: the initial velocity, then v1 of the last step (math note eq. 1.1).
     pub velocity: Vec<f64>,
     /// Accumulated element strain (εx, εy, γxy).
@@ -64,6 +65,7 @@ impl MeshBody {
         // (a model built in code) only loses its contacts
         let loops = boundary_loops(&m.nodes, &m.triangles).unwrap_or_default();
         let outer = loops.first().filter(|l| !l.is_hole()).map(|l| l.nodes.clone()).unwrap_or_default();
+        let holes = loops.iter().filter(|l| l.is_hole()).map(|l| l.nodes.clone()).collect();
         let ne = m.triangles.len();
         let mut body = MeshBody {
             reference: m.nodes.clone(),
@@ -72,7 +74,7 @@ impl MeshBody {
             triangles: m.triangles.clone(),
             has_fixed: !shape.fixed_nodes.is_empty(),
             outer,
-            holes: loops.len().saturating_sub(1),
+            holes,
             velocity: vec![0.0; pattern.n_dof],
             pattern,
             strain: vec![Vector3::zeros(); ne],
@@ -226,13 +228,15 @@ impl MeshBody {
         self.locate(x).map_or(Vector3::zeros(), |(e, _)| self.stress[e])
     }
 
-    /// The contact column's weights at `x` (math note §9.2): the nearest edge `(i, j)` of the
-    /// outer loop and `[(i, 1 - s), (j, s)]` with `x ≈ (1 - s) x_i + s x_j`.
+    /// The contact column's weights at `x` (math note §9.2): the nearest boundary edge `(i, j)`
+    /// (outer loop or hole) and `[(i, 1 - s), (j, s)]` with `x ≈ (1 - s) x_i + s x_j`.
     pub fn edge_weights(&self, x: Vec2) -> [(usize, f64); 2] {
-        let n = self.outer.len();
         let mut best = (f64::INFINITY, [(0, 1.0), (0, 0.0)]);
-        for k in 0..n {
-            let (i, j) = (self.outer[k], self.outer[(k + 1) % n]);
+        let edges = std::iter::once(&self.outer).chain(&self.holes).flat_map(|l| {
+            let n = l.len();
+            (0..n).map(move |k| (l[k], l[(k + 1) % n]))
+        });
+        for (i, j) in edges {
             let (a, b) = (self.nodes[i], self.nodes[j]);
             let ab = b - a;
             let s = ((x - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0);
@@ -252,6 +256,11 @@ impl MeshBody {
     /// Current positions of the outer loop (the polygon contacts see).
     pub fn outline(&self) -> Vec<Vec2> {
         self.outer.iter().map(|&n| self.nodes[n]).collect()
+    }
+
+    /// Current positions of each hole's loop.
+    pub fn hole_outlines(&self) -> Vec<Vec<Vec2>> {
+        self.holes.iter().map(|l| l.iter().map(|&n| self.nodes[n]).collect()).collect()
     }
 
     /// Kinetic energy ½ vᵀ M v with the consistent mass.
