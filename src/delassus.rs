@@ -42,6 +42,13 @@ pub struct Scratch {
     place_col: Vec<usize>,
     /// Per cluster, its range of places (`clusters + 1` offsets).
     cluster_place: Vec<usize>,
+    /// Per sparse cluster, the sorted cluster-local DOFs that rows touch (S); empty otherwise.
+    sets: Vec<Vec<usize>>,
+    /// Per cluster, the length of its columns: |S| for a sparse cluster (columns are kept at S
+    /// only), its DOF count otherwise.
+    col_len: Vec<usize>,
+    /// Per segment of B, the position of its first DOF in its cluster's columns.
+    seg_at: Vec<usize>,
     columns: Vec<f64>,
     /// Per row of W, its places (CSR: `row_place_start` has `rows + 1` offsets).
     row_place_start: Vec<usize>,
@@ -87,19 +94,17 @@ impl ContactOperator {
         limit: usize,
         scratch: &mut Scratch,
     ) -> ContactOperator {
+        scratch.layout(jac, flex, map);
         let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
             .iter()
-            .enumerate()
-            .map(|(c, &rows)| {
-                let n = map.cluster_range(c).len();
-                rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
-            })
+            .zip(&scratch.col_len)
+            .map(|(&rows, &n)| rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit)
             .collect();
         let mut diagonal = vec![0.0; jac.rows];
         let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
         scratch.places(jac, map, &factored_clusters);
-        scratch.columns(jac, flex, map);
-        let explicit = scratch.csr(jac, map);
+        scratch.columns(jac, flex);
+        let explicit = scratch.csr(jac);
         for (r, d) in diagonal.iter_mut().enumerate() {
             *d += explicit.get(r, r).copied().unwrap_or(0.0);
         }
@@ -202,6 +207,36 @@ fn factored_parts(
 }
 
 impl Scratch {
+    /// The DOFs each sparse cluster's rows touch (S), the columns' lengths and each segment's
+    /// place in them. A segment's DOFs are consecutive in S too (S holds all of them, sorted).
+    fn layout(&mut self, jac: &Jacobian, flex: &Flexibility, map: &DofMap) {
+        let clusters = map.clusters();
+        self.sets.resize_with(clusters, Vec::new);
+        self.sets.iter_mut().for_each(Vec::clear);
+        let local = |s: &Segment| s.start - map.cluster_range(s.cluster).start;
+        for s in jac.segments.iter().filter(|s| flex.is_sparse(s.cluster)) {
+            self.sets[s.cluster].extend(local(s)..local(s) + s.len);
+        }
+        for set in &mut self.sets {
+            set.sort_unstable();
+            set.dedup();
+        }
+        self.col_len.clear();
+        self.col_len.extend(
+            (0..clusters)
+                .map(|c| if flex.is_sparse(c) { self.sets[c].len() } else { map.cluster_range(c).len() }),
+        );
+        self.seg_at.clear();
+        for s in &jac.segments {
+            let set = &self.sets[s.cluster];
+            self.seg_at.push(if flex.is_sparse(s.cluster) {
+                set.partition_point(|&d| d < local(s))
+            } else {
+                local(s)
+            });
+        }
+    }
+
     /// Sorts the explicit segments by cluster and row (counting sort, then a stable sort of
     /// each cluster's few segments) and lists the places.
     fn places(&mut self, jac: &Jacobian, map: &DofMap, factored: &[bool]) {
@@ -243,41 +278,48 @@ impl Scratch {
         self.place_seg.push(self.order.len());
     }
 
-    /// Each place's column K̃_c⁻¹ B_rᵀ|c over the cluster's DOF range: from the cached unit
-    /// columns of the DOFs touched for a sparse cluster (math note §9.3), else by one solve.
-    fn columns(&mut self, jac: &Jacobian, flex: &Flexibility, map: &DofMap) {
+    /// Each place's column K̃_c⁻¹ B_rᵀ|c: over the cluster's DOF range by one solve for a single
+    /// body; for a sparse cluster over its set S only, from the cached block (K̃_c⁻¹)_SS (math
+    /// note §9.3), since W reads the columns nowhere else.
+    fn columns(&mut self, jac: &Jacobian, flex: &Flexibility) {
         self.place_col.clear();
         let mut total = 0;
         for &c in &self.place_cluster {
             self.place_col.push(total);
-            total += map.cluster_range(c).len();
+            total += self.col_len[c];
         }
         self.columns.clear();
         self.columns.resize(total, 0.0);
+        let mut block: Option<(usize, Vec<f64>)> = None; // places come cluster by cluster
         for (p, &c) in self.place_cluster.iter().enumerate() {
-            let range = map.cluster_range(c);
-            let col = &mut self.columns[self.place_col[p]..self.place_col[p] + range.len()];
-            let segments =
-                self.order[self.place_seg[p]..self.place_seg[p + 1]].iter().map(|&si| &jac.segments[si]);
-            if flex.is_sparse(c) {
-                for s in segments {
-                    flex.add_columns(c, s.start - range.start, &s.vals.as_slice()[..s.len], col);
-                }
-                continue;
+            let len = self.col_len[c];
+            let col = &mut self.columns[self.place_col[p]..self.place_col[p] + len];
+            let segments = &self.order[self.place_seg[p]..self.place_seg[p + 1]];
+            if block.as_ref().is_none_or(|b| b.0 != c) {
+                block = flex.inverse_block(c, &self.sets[c]).map(|g| (c, g));
             }
-            for s in segments {
-                for i in 0..s.len {
-                    col[s.start - range.start + i] += s.vals[i];
+            for &si in segments {
+                let (s, at) = (&jac.segments[si], self.seg_at[si]);
+                for i in (0..s.len).filter(|&i| s.vals[i] != 0.0) {
+                    match &block {
+                        Some((_, g)) => {
+                            let g = &g[(at + i) * len..(at + i + 1) * len];
+                            col.iter_mut().zip(g).for_each(|(x, gi)| *x += s.vals[i] * gi);
+                        }
+                        None => col[at + i] += s.vals[i],
+                    }
                 }
             }
-            flex.solve_cluster(c, col);
+            if block.is_none() {
+                flex.solve_cluster(c, col);
+            }
         }
     }
 
     /// W's explicit part: row r gets, for every place (c, r), B_r|c · K̃_c⁻¹ B_sᵀ|c for every
     /// row s touching c; entries of a column reached through two clusters are summed, in
     /// cluster order.
-    fn csr(&mut self, jac: &Jacobian, map: &DofMap) -> CsMat<f64> {
+    fn csr(&mut self, jac: &Jacobian) -> CsMat<f64> {
         let starts = &mut self.row_place_start;
         starts.clear();
         starts.resize(jac.rows + 1, 0);
@@ -304,13 +346,12 @@ impl Scratch {
             self.entries.clear();
             for &p in &self.row_places[starts[r]..starts[r + 1]] {
                 let c = self.place_cluster[p];
-                let base = map.cluster_range(c).start;
                 for q in self.cluster_place[c]..self.cluster_place[c + 1] {
                     let col = &self.columns[self.place_col[q]..];
                     let mut v = 0.0;
                     for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
                         let s = &jac.segments[si];
-                        let at = s.start - base;
+                        let at = self.seg_at[si];
                         v += (0..s.len).map(|i| s.vals[i] * col[at + i]).sum::<f64>();
                     }
                     self.entries.push((self.place_row[q], self.entries.len(), v));

@@ -104,3 +104,107 @@ impl DiskPile {
         }
     }
 }
+
+/// A rectangular meshed block resting on a fixed rigid floor with a rigid disk pressed into the
+/// middle of its top (the 100k-DOF benchmark of issue 8): `nx` × `ny` cells of a structured grid,
+/// each split into two 3-node triangles along alternating diagonals (so the mesh has no
+/// preferred direction), free nodes only (it rests on the floor by contact, `BL`), under gravity,
+/// static relaxation. The disk (radius `width / 8`) carries `load` downwards.
+#[derive(Debug, Clone, Copy)]
+pub struct PressedBlock {
+    pub nx: usize,
+    pub ny: usize,
+    pub width: f64,
+    pub height: f64,
+    pub load: f64,
+    pub dt: f64,
+    /// `[solver] factor_drift` (0: refactor every step).
+    pub factor_drift: f64,
+}
+
+impl PressedBlock {
+    /// A 4 m × 2 m block of rock (ρ 2500, E 1e10 Pa, ν 0.25) with `2 (nx + 1)(nx / 2 + 1)` DOF,
+    /// a 0.5 m disk pressed by 1e6 N/m, dt 0.01.
+    pub fn benchmark(nx: usize) -> PressedBlock {
+        PressedBlock { nx, ny: nx / 2, width: 4.0, height: 2.0, load: 1e6, dt: 0.01, factor_drift: 0.0 }
+    }
+
+    /// The structured mesh of the block, its base on y = 0.
+    pub fn mesh(&self) -> crate::mesh::Mesh {
+        let (nx, ny) = (self.nx, self.ny);
+        let node = |i: usize, j: usize| j * (nx + 1) + i;
+        let nodes = (0..=ny)
+            .flat_map(|j| {
+                (0..=nx).map(move |i| {
+                    Vec2::new(self.width * i as f64 / nx as f64, self.height * j as f64 / ny as f64)
+                })
+            })
+            .collect::<Vec<_>>();
+        let mut triangles = Vec::with_capacity(2 * nx * ny);
+        for j in 0..ny {
+            for i in 0..nx {
+                let (a, b, c, d) = (node(i, j), node(i + 1, j), node(i + 1, j + 1), node(i, j + 1));
+                if (i + j) % 2 == 0 {
+                    triangles.extend([[a, b, c], [a, c, d]]);
+                } else {
+                    triangles.extend([[a, b, d], [b, c, d]]);
+                }
+            }
+        }
+        crate::mesh::Mesh {
+            file: format!("generated {nx}x{ny} block"),
+            node_tags: (1..=nodes.len() as u64).collect(),
+            nodes,
+            triangles,
+            groups: Vec::new(),
+        }
+    }
+
+    pub fn model(&self) -> Model {
+        let (w, h) = (self.width, self.height);
+        let r = w / 8.0;
+        let rock = Material { name: "rock".into(), density: 2500.0, young: Some(1e10), poisson: Some(0.25) };
+        let body = |name: &str, shape: Shape, fixed: bool| BodySpec {
+            name: name.into(),
+            shape,
+            model: if fixed { BodyModel::Rigid } else { BodyModel::Deformable },
+            material: 0,
+            fixed,
+            velocity: Vec2::zeros(),
+            angular_velocity: 0.0,
+            initial_stress: None,
+        };
+        let floor = vec![
+            Vec2::new(-0.5, -0.5),
+            Vec2::new(w + 0.5, -0.5),
+            Vec2::new(w + 0.5, 0.0),
+            Vec2::new(-0.5, 0.0),
+        ];
+        let block = MeshShape { mesh: self.mesh(), fixed_nodes: Vec::new() };
+        let center = Vec2::new(0.5 * w, h + r);
+        let mut disk = body("disk", Shape::Disk { center, radius: r }, false);
+        disk.model = BodyModel::Rigid;
+        Model {
+            name: format!("{}x{} meshed block pressed by a disk", self.nx, self.ny),
+            time: TimeSettings::new(self.dt, 1),
+            physics: Physics { gravity: Vec2::new(0.0, -10.0), plane: Plane::Strain, velocity_carry: 0.0 },
+            contact: ContactSettings { threshold: None },
+            solver: SolverSettings {
+                tolerance: 1e-8,
+                factor_drift: self.factor_drift,
+                ..SolverSettings::default()
+            },
+            materials: vec![rock],
+            interfaces: vec![Interface { friction: 0.5, ..Interface::SMOOTH }],
+            bodies: vec![
+                body("floor", Shape::Polygon { vertices: floor }, true),
+                body("block", Shape::Mesh(Box::new(block)), false),
+                disk,
+            ],
+            loads: vec![Load { body: 2, point: center, force: Vec2::new(0.0, -self.load), history: None }],
+            connectors: vec![],
+            monitors: vec![],
+            output: OutputSettings { every: 1, steps_every: 1, vtk: true },
+        }
+    }
+}
