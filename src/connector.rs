@@ -22,13 +22,16 @@
 //! `G_p` acts on the DOFs of body p that the anchor moves with, listed in `cols` (body-local
 //! indices): all of a block's or particle's DOFs, and for a mesh body the free DOFs of the three
 //! nodes of the triangle holding the anchor, weighted by its area coordinates (math note §9.2,
-//! as a point load), so a connector couples a mesh through six DOFs, never densely. A beam needs
-//! a rotation DOF, which a mesh lacks: the scene reader rejects beams on meshes.
+//! as a point load), so a connector couples a mesh through six DOFs, never densely. A beam's end
+//! on a mesh turns with the triangle holding it (its infinitesimal rotation, a combination of the
+//! same six DOFs: [`beam_end`]).
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
 use crate::body::{Body, Dofs};
 use crate::geometry::Vec2;
+#[cfg(doc)]
+use crate::mesh::body::MeshBody;
 pub use crate::model::ConnectorKind;
 use crate::model::ConnectorSpec;
 
@@ -385,21 +388,21 @@ impl Connector {
     }
 
     /// Beam element: `T_be = [[T_1(A1), 0], [E_1, 0], [0, T_2(A2)], [0, E_2]]` (eq. 90 corrected,
-    /// typo 14) and the corrected 6×6 of math note §6.
+    /// typo 14; [`beam_end`]) and the corrected 6×6 of math note §6.
     fn beam_element(&self, b: [&Body; 2], local: Vector6<f64>) -> Element {
-        let mut g = [DMatrix::zeros(6, b[0].ndof()), DMatrix::zeros(6, b[1].ndof())];
-        for p in 0..2 {
-            let n = b[p].ndof();
-            if n > 0 {
-                g[p].view_mut((3 * p, 0), (2, n)).copy_from(&t_rows(b[p], self.anchors[p]));
-                g[p][(3 * p + 2, 2)] = 1.0; // E_p: the rotation DOF r0 (module docs)
-            }
-        }
+        let ends = [0, 1].map(|p| beam_end(b[p], self.anchors[p], self.held[p]));
+        let g = [0, 1].map(|p| {
+            let (cols, rows) = &ends[p];
+            let mut g = DMatrix::zeros(6, cols.len());
+            g.view_mut((3 * p, 0), (3, cols.len())).copy_from(rows);
+            g
+        });
         let (axis, len) = self.axis();
         let global = self.to_local().transpose() * local;
+        let [(c1, _), (c2, _)] = ends;
         Element {
             g,
-            cols: [(0..b[0].ndof()).collect(), (0..b[1].ndof()).collect()],
+            cols: [c1, c2],
             k: DMatrix::from_column_slice(6, 6, beam_matrix(&self.kind, len, axis).as_slice()),
             force: DVector::from_column_slice(global.as_slice()),
         }
@@ -418,6 +421,31 @@ fn end_map(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>
     let (dofs, w): (Vec<usize>, Vec<f64>) = fe.point_dofs(e, l).unzip();
     let cols = dofs.iter().flat_map(|&d| [d, d + 1]).collect();
     let g = DMatrix::from_fn(2, 2 * w.len(), |r, c| if c % 2 == r { w[c / 2] } else { 0.0 });
+    (cols, g)
+}
+
+/// How a beam's anchor x moves and turns, `(u(x), θ) = G d[cols]` (3 rows, [`end_map`] for the
+/// first two): a block or particle turns by its rotation DOF r0 (`E_b`, module docs); on a mesh
+/// the anchor turns with the triangle holding it, whose rotation ω = ½(∂u_y/∂x − ∂u_x/∂y) is a
+/// combination of the same three nodes' DOFs ([`MeshBody::rotation_dofs`]), so the beam's end
+/// moment reaches the mesh as a couple of nodal forces on that triangle (math note §9.2).
+fn beam_end(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>, DMatrix<f64>) {
+    let (cols, t) = end_map(body, x, held);
+    let mut g = DMatrix::zeros(3, cols.len());
+    g.view_mut((0, 0), (2, cols.len())).copy_from(&t);
+    match body.mesh.as_ref().filter(|_| !body.fixed) {
+        Some(fe) => {
+            if let Some((e, _)) = held.or_else(|| fe.locate(x)) {
+                for (d, wx, wy) in fe.rotation_dofs(e) {
+                    if let Some(c) = cols.iter().position(|&k| k == d) {
+                        (g[(2, c)], g[(2, c + 1)]) = (wx, wy);
+                    }
+                }
+            }
+        }
+        None if !cols.is_empty() => g[(2, 2)] = 1.0,
+        None => {}
+    }
     (cols, g)
 }
 

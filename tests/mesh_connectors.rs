@@ -62,3 +62,71 @@ fn slab_and_a_block_bolted_to_it_form_one_cluster() {
     let up = bolt_force(&world, "left") + bolt_force(&world, "right");
     assert!((up - (wb + ws)).abs() <= 1e-9 * (wb + ws), "bolts {up} against the total weight {}", wb + ws);
 }
+
+/// A beam anchored in a mesh (math note §9.2): its end turns with the triangle holding it. A
+/// 1 m steel beam (E = 2e11 Pa, A = 1e-2 m², I = 1e-5 m⁴, shear factor 1.2, G = E/2.6) is
+/// clamped in a fixed block at (0, 0.4) and carries at its other end, (1, 0.4), a free meshed
+/// block (`square.msh` moved to x in [0.9, 1.9], E = 1e15 Pa, no gravity), loaded by P = 1 N
+/// downwards at the anchor. Closed form (Timoshenko cantilever, as in
+/// `tests/connectors_world.rs`): the anchor sinks by PL³/(3EI) + 1.2 PL/(GA) and the block turns
+/// by PL²/(2EI) clockwise; the root moment is PL. Without the rotation coupling the beam's end
+/// would be held at zero rotation (a guided end): a quarter of the bending deflection and no
+/// turn. The block is 5e3 times stiffer than the beam's section, so its own strain moves the
+/// anchor by under 1e-6 relative: tolerance 1e-5, as for the block and disk cantilevers.
+#[test]
+fn beam_carries_a_meshed_block() {
+    let text = r#"
+[scene]
+name = "beam into a mesh"
+[time]
+step = 0.01
+steps = 200
+[physics]
+gravity = [0.0, 0.0]
+velocity_carry = 0.0
+plane = "stress"
+[solver]
+tolerance = 1e-12
+[[material]]
+name = "steel"
+density = 1.0
+young = 1e15
+poisson = 0.25
+[[body]]
+name = "wall"
+shape = "polygon"
+vertices = [[-1.0, -1.0], [0.0, -1.0], [0.0, 1.0], [-1.0, 1.0]]
+material = "steel"
+fixed = true
+[[body]]
+name = "block"
+shape = "mesh"
+file = "../meshes/square.msh"
+physical = "block"
+offset = [0.9, 0.0]
+material = "steel"
+[[load]]
+body = "block"
+point = [1.0, 0.4]
+force = [0.0, -1.0]
+[[connector]]
+kind = "beam"
+points = [[0.0, 0.4], [1.0, 0.4]]
+young = 2e11
+area = 1e-2
+inertia = 1e-5
+"#;
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests").join("scene.toml");
+    let model = pbdda::scene::parse(text, &file.display().to_string()).unwrap_or_else(|e| panic!("{e}"));
+    let mut world = World::new(model);
+    settle(&mut world, 200);
+    let (e, area, inertia, p, l): (f64, f64, f64, f64, f64) = (2e11, 1e-2, 1e-5, 1.0, 1.0);
+    let deflection = p * l.powi(3) / (3.0 * e * inertia) + 1.2 * p * l / (e / 2.6 * area);
+    let rotation = p * l * l / (2.0 * e * inertia);
+    let dy = 0.4 - world.connectors[0].anchors[1].y;
+    assert!((dy - deflection).abs() <= 1e-5 * deflection, "anchor sinks {dy}, exact {deflection}");
+    let turn = -world.bodies[1].rotation;
+    assert!((turn - rotation).abs() <= 1e-5 * rotation, "block turns {turn}, exact {rotation}");
+    let root = world.connectors[0].end_moments().expect("a beam")[0];
+    assert!((root.abs() - p * l).abs() <= 1e-5 * p * l, "root moment {root}, exact P L = {}", p * l);
+}

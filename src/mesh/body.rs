@@ -202,6 +202,18 @@ impl MeshBody {
         self.triangles[e].iter().zip(l).filter_map(|(&n, w)| self.pattern.dof(n).map(|d| (d, w)))
     }
 
+    /// How the material of triangle `e` turns: `(dof of u_x, ∂ω/∂u_x, ∂ω/∂u_y)` of each free
+    /// node, ω = ½(∂u_y/∂x − ∂u_x/∂y) the infinitesimal rotation, constant on a Tri3:
+    /// `ω = Σ (β_i u_y,i − γ_i u_x,i) / (4A)` (math note §9.2, beams on a mesh).
+    pub fn rotation_dofs(&self, e: usize) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
+        let t = Tri3::of(&self.nodes, self.triangles[e]);
+        let s = 0.25 / t.area;
+        self.triangles[e]
+            .iter()
+            .enumerate()
+            .filter_map(move |(i, &n)| self.pattern.dof(n).map(|d| (d, -s * t.gamma[i], s * t.beta[i])))
+    }
+
     /// Adds a point force at `x` (current configuration) to `f`: `L_i F` on the nodes of the
     /// triangle holding x (math note §9.2, eqs. 99-101).
     pub fn add_point_load(&self, f: &mut [f64], x: Vec2, force: Vec2) {

@@ -67,15 +67,6 @@ fn connector(
             continue;
         }
         let body = &bodies[b].name;
-        if kind == Kind::Beam {
-            return fail(
-                place,
-                format!(
-                    "beam \"{name}\" is anchored on mesh body \"{body}\": a beam needs a rotation DOF, \
-                     which a mesh lacks; use a bolt or spring, or anchor the beam on a block"
-                ),
-            );
-        }
         if !bodies[b].shape.contains(points[k]) {
             let (x, y) = (points[k].x, points[k].y);
             return fail(
