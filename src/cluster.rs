@@ -190,6 +190,14 @@ impl Flexibility {
         Some(f.inverse_block(dofs))
     }
 
+    /// K̃⁻¹ of cluster `c` when it is a single body's closed form (padded to 6×6).
+    pub fn body_inverse(&self, c: usize) -> Option<&BodyMatrix> {
+        match self.factors[c].as_ref() {
+            Factor::Body(kinv) => Some(kinv),
+            Factor::Sparse(_) => None,
+        }
+    }
+
     /// Whether cluster `c` goes through the sparse factorization.
     pub fn is_sparse(&self, c: usize) -> bool {
         matches!(self.factors[c].as_ref(), Factor::Sparse(_))

@@ -1,19 +1,22 @@
-//! Extreme mass ratios (math note §4.9): two rigid 1 m × 1 m blocks stacked on a fixed floor
-//! (μ = 0.5, g = 10, dt = 0.01, 20 steps), one of density 1e3, the other 1e3·ratio. Statics of
-//! two rigid blocks each on two corners is symmetric: every corner under the top block carries
-//! half its weight, every floor corner half the weight of both.
+//! Extreme mass ratios (math note §4.9, §10.10): two rigid 1 m × 1 m blocks stacked on a fixed
+//! floor (μ = 0.5, g = 10, dt = 0.01, 20 steps), one of density 1e3, the other 1e3·ratio.
+//! Statics of two rigid blocks each on two corners is symmetric: every corner under the top block
+//! carries half its weight, every floor corner half the weight of both.
 //!
 //! * Light on heavy, ratio 1e12: the light block's contacts carry 5e3 N next to the floor's
 //!   5e15 N. The force part of the residual, relative to ||z||∞, cannot see them (before §4.9
 //!   the light block fell through its support in a "converged" step); the gap part must.
 //! * Heavy on light: the load path of the heavy block runs through the light one, along which W
-//!   has an eigenvalue ratio⁻¹ times its diagonal. The forces there are only *resolvable* to
-//!   about eps·ratio relative (the light block moves by the difference of two forces of size
-//!   m_h g, which a double holds to eps·m_h g; §4.9 derives it), so the test asserts the
-//!   statics within 1e-6 where 4·eps·ratio allows it (ratios 1e6 and 1e8) and, for every
-//!   ratio, a median error within 4·eps·ratio; all steps must converge without a halving
-//!   failure (before §4.9 the divergence test, scaled by D⁻¹q ~ m_l g, stopped the solver on the
-//!   first step for any ratio above ~2e4).
+//!   has an eigenvalue ratio⁻¹ times its diagonal: a solver working with W resolves the forces
+//!   only to about eps·ratio (1e-4 at 1e12; §4.9). The polish of §10.10 corrects the converged
+//!   forces with gaps summed body by body in double-double, through B and each body's K̃,
+//!   never W.
+//!
+//! Both orders, every ratio: every corner force of every step within 1e-6 of statics (the
+//! issue's acceptance), every step converged and taken whole. What is left at 1e12 (measured
+//! 3.3e-7 at worst, 5e-8 at the median) is the resolution of the forces themselves: 5e15 N is
+//! held to 1 N, and 1 N more on the light block moves it by dt²/m_l = 1e-7 m, so the gaps, and
+//! through the heavy block's compliance its forces, are resolved to about that.
 
 use pbdda::world::{StepRecord, World};
 
@@ -61,35 +64,22 @@ fn max(v: &[f64]) -> f64 {
     v.iter().copied().fold(0.0, f64::max)
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut v = v.to_vec();
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
-/// Light (1e3) on heavy (1e15). The gap part of the residual asks each row for its gap to
-/// tolerance · L = 1e-6 · 1 m (L the smallest edge); the light block's compliance is
-/// dt²/m = 1e-7 m/N, so its corner forces are guaranteed to 10 N of 5 000 N (2e-3); the floor
-/// corners, well conditioned, to the force part's 1e-6 of ‖z‖∞. Each of the 20 steps is taken
-/// whole (no halving).
+/// Light (1e3) on heavy (1e15): measured 1e-15 at worst.
 #[test]
 fn light_on_heavy_1e12_holds_the_statics() {
     let (top, floor, split) = corner_errors(1e15, 1e3);
-    assert!(max(&top) <= 2e-3, "light block corners: worst error {:e}", max(&top));
+    assert!(max(&top) <= 1e-6, "light block corners: worst error {:e}", max(&top));
     assert!(max(&floor) <= 1e-6, "floor corners: worst error {:e}", max(&floor));
     assert_eq!(split, 0, "steps taken as shorter trials");
 }
 
-/// Heavy on light at ratios 1e6 … 1e12: see the module header for the resolution eps·ratio.
+/// Heavy on light at ratios 1e6 … 1e12 (worst errors measured: 0, 1.2e-16, 5.7e-9, 3.3e-7).
 #[test]
-fn heavy_on_light_within_the_resolution_of_doubles() {
+fn heavy_on_light_holds_the_statics() {
     for ratio in [1e6, 1e8, 1e10, 1e12] {
-        let (top, floor, _) = corner_errors(1e3, 1e3 * ratio);
+        let (top, floor, split) = corner_errors(1e3, 1e3 * ratio);
         let all: Vec<f64> = top.iter().chain(&floor).copied().collect();
-        let resolution = f64::EPSILON * ratio;
-        assert!(median(&all) <= 4.0 * resolution, "ratio {ratio:e}: median error {:e}", median(&all));
-        if 4.0 * resolution <= 1e-6 {
-            assert!(max(&all) <= 1e-6, "ratio {ratio:e}: worst error {:e}", max(&all));
-        }
+        assert!(max(&all) <= 1e-6, "ratio {ratio:e}: worst error {:e}", max(&all));
+        assert_eq!(split, 0, "ratio {ratio:e}: steps taken as shorter trials");
     }
 }

@@ -34,6 +34,7 @@ use std::time::Instant;
 mod adaptive;
 mod connectors;
 mod detect;
+mod polish;
 mod predict;
 mod record;
 mod refine;

@@ -68,6 +68,9 @@ impl Runner<'_> {
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
         self.pipeline.vi.method = world.model.solver.method;
         let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
+        if r.converged {
+            world.polish(rows, q, &rule, z);
+        }
         if !r.converged {
             let (step, residual, iterations) = (self.step, r.residual, r.inner_iterations);
             self.warnings.push(Warning::NotConverged { step, solve, residual, iterations });
