@@ -126,3 +126,28 @@ fn progress_is_plain_when_not_on_a_terminal() {
     assert!(err.contains(&format!("results in {}", out.display())), "{err}");
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// A reader of the terminal output that goes away (`pbdda run … 2>&1 | head -1`) does not stop
+/// the run: with stdout and stderr pipes closed before it starts, `run` still takes all 100
+/// steps of the §7.1 example, exits 0 and ends run.log with its `completed` line (before, the
+/// first progress line panicked on the closed pipe: exit code 101, an empty run.log and a
+/// truncated steps.csv).
+#[test]
+fn closed_output_pipes_do_not_stop_a_run() {
+    use std::process::Stdio;
+    let out = scratch("closed-pipes");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pbdda"))
+        .args(["run", &example("7_1_disk_heap.toml"), "--out", out.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    drop(child.stdout.take());
+    drop(child.stderr.take());
+    let status = child.wait().expect("it ends");
+    assert!(status.success(), "exit status {status}");
+    let log = std::fs::read_to_string(out.join("run.log")).expect("run.log");
+    assert!(log.lines().last().is_some_and(|l| l.starts_with("completed 100 steps")), "run.log: {log}");
+    let steps = std::fs::read_to_string(out.join("steps.csv")).expect("steps.csv");
+    assert_eq!(steps.lines().count(), 101, "header and 100 steps");
+}

@@ -8,7 +8,7 @@ use std::path::Path;
 
 pub(super) fn check(scene_path: &Path, overrides: &[Override]) -> Result<()> {
     let model = scene::load_with(scene_path, overrides)?;
-    print!("{}", summary(&model));
+    out!("{}", summary(&model));
     Ok(())
 }
 

@@ -4,6 +4,34 @@
 //! `--set KEY=VALUE` (see [`crate::scene::overrides`]) changes any key of the scene file for
 //! one invocation; every check of the scene reader applies to the new value.
 
+/// `print!` / `println!` / `eprint!` / `eprintln!` that ignore a failed write: when the reader
+/// of the terminal output goes away (`pbdda run … | head`), the run still finishes and writes its
+/// files; the std macros would panic on the closed pipe mid-run.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout(), $($t)*);
+    }};
+}
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout(), $($t)*);
+    }};
+}
+macro_rules! err {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($t)*);
+    }};
+}
+macro_rules! errln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($t)*);
+    }};
+}
+
 mod check;
 mod progress;
 mod run;
@@ -136,7 +164,7 @@ pub fn main(cli: Cli) -> Result<()> {
             let out = out.unwrap_or_else(|| dir.join("plots"));
             let opts = crate::output::plot::PlotOptions { bodies, ..Default::default() };
             let written = crate::output::plot::plot_results(&dir, &out, &opts)?;
-            println!("{} figures in {}", written.len(), out.display());
+            outln!("{} figures in {}", written.len(), out.display());
             Ok(())
         }
         Command::Render { dir, step, out, width, height } => {
@@ -144,7 +172,7 @@ pub fn main(cli: Cli) -> Result<()> {
                 dir.join(format!("render_{}.png", step.map_or("last".into(), |s| s.to_string())))
             });
             let path = crate::output::render::render_step(&dir, step, &out, (width, height))?;
-            println!("{}", path.display());
+            outln!("{}", path.display());
             Ok(())
         }
     }

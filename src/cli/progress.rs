@@ -61,8 +61,8 @@ impl Progress {
     /// A line for the user (a warning, an event), above the bar; nothing when quiet.
     pub fn println(&self, line: &str) {
         match (&self.bar, self.mode) {
-            (Some(bar), _) => bar.suspend(|| eprintln!("{line}")),
-            (None, ProgressMode::Plain) => eprintln!("{line}"),
+            (Some(bar), _) => bar.suspend(|| errln!("{line}")),
+            (None, ProgressMode::Plain) => errln!("{line}"),
             _ => {}
         }
     }
@@ -89,7 +89,7 @@ impl Progress {
         let wall = self.started.elapsed().as_secs_f64();
         let rate = done as f64 / wall.max(1e-9);
         let eta = (self.total - done.min(self.total)) as f64 / rate;
-        eprintln!(
+        errln!(
             "step {done}/{} ({} %), t = {} s, {:.0} steps/s, eta {:.0} s",
             self.total,
             done * 100 / self.total,

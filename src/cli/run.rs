@@ -179,7 +179,7 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
     summary.wall_seconds = started.elapsed().as_secs_f64();
     writers.log(&summary.log_line())?;
     if !plan.quiet {
-        eprint!("{}", summary.text(plan.out));
+        err!("{}", summary.text(plan.out));
     }
     Ok(())
 }

@@ -181,7 +181,7 @@ fn one_run(
     let mut world = World::new(model);
     let mode = if quiet { ProgressMode::Quiet } else { ProgressMode::detect(false) };
     if !quiet {
-        eprintln!("{key} = {value}: {steps} steps");
+        errln!("{key} = {value}: {steps} steps");
     }
     let mut progress = Progress::new(steps, mode);
     let mut run = SweepRun {
@@ -373,10 +373,10 @@ pub(super) fn command(scene: &Path, set: &[Override], out: &Path, options: &Swee
         std::fs::read_to_string(scene).map_err(|e| crate::scene::SceneError::unreadable(&file, &e))?;
     let values = split_values(&swept.value);
     let report = sweep(&source, &file, &base, &swept.key, &values, options)?;
-    print!("{}", report.table());
+    out!("{}", report.table());
     std::fs::create_dir_all(out).into_diagnostic()?;
     std::fs::write(out.join("sweep.csv"), report.csv()).into_diagnostic()?;
     plot::error_against_cost(&report, &out.join("sweep.png"))?;
-    println!("wrote {} and {}", out.join("sweep.csv").display(), out.join("sweep.png").display());
+    outln!("wrote {} and {}", out.join("sweep.csv").display(), out.join("sweep.png").display());
     Ok(())
 }

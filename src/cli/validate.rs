@@ -498,7 +498,7 @@ pub fn markdown(rows: &[Row]) -> String {
 
 pub(super) fn command(markdown_file: Option<&Path>) -> Result<()> {
     let rows = rows()?;
-    print!("{}", table(&rows));
+    out!("{}", table(&rows));
     if let Some(path) = markdown_file {
         std::fs::write(path, markdown(&rows)).into_diagnostic()?;
     }
@@ -506,6 +506,6 @@ pub(super) fn command(markdown_file: Option<&Path>) -> Result<()> {
     if failed > 0 {
         return Err(miette::miette!("{failed} of {} rows outside their tolerance", rows.len()));
     }
-    println!("all {} rows within their tolerance", rows.len());
+    outln!("all {} rows within their tolerance", rows.len());
     Ok(())
 }
