@@ -164,3 +164,43 @@ fn bolted_slab_matches_scikit_fem() {
         );
     }
 }
+
+/// `examples/mesh_bolt_across_joint.toml`: a meshed block on a frictionless 30° joint (gravity
+/// tilted), held by a bolt anchored in it and in the clamped meshed base below (one sparse
+/// cluster of two meshes and a bolt). Statics of the block, W = 20 000 N: the bolt's force N l
+/// (l its current unit direction, from the block's anchor to the base's), the joint's contact
+/// forces and the weight balance in x and y, to 1e-6 of W (the relaxation's out-of-balance after
+/// 20 steps is the mass term, 3e-3 of the bolt's stiffness, to the 20th power; the solver's
+/// tolerance is 1e-10). With the joint taken as flat (it tilts by 1e-5 rad as the base bends):
+/// N |l_x| = W sin 30° to 1e-4. Every step converges at the full dt.
+#[test]
+fn bolt_holds_a_meshed_block_on_a_frictionless_joint() {
+    let mut world = World::new(common::example("mesh_bolt_across_joint.toml"));
+    let (base, block) = (common::body(&world, "base"), common::body(&world, "block"));
+    assert_eq!(world.dofs.cluster_of(base), world.dofs.cluster_of(block));
+    let mut last = None;
+    for _ in 0..20 {
+        let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
+        assert!(rec.converged && rec.dt == 0.1, "{rec:?}");
+        last = Some(rec);
+    }
+    let rec = last.expect("steps");
+    let w = 2500.0 * 0.8 * 10.0;
+    let weight = pbdda::geometry::Vec2::new(0.5, -(3f64.sqrt()) / 2.0) * w;
+    let bolt = &world.connectors[0];
+    let l = (bolt.anchors[1] - bolt.anchors[0]).normalize();
+    let n = bolt.axial_force();
+    let mut total = weight + l * n;
+    for c in common::between(&world, &rec, "base", "block") {
+        // on body A (the one n points into): p_n n + p_t τ, τ = cw(n)
+        let on_a = c.normal * c.normal_force + pbdda::geometry::cw(c.normal) * c.shear_force;
+        total += if c.body_a == block { on_a } else { -on_a };
+    }
+    assert!(total.norm() <= 1e-6 * w, "out of balance {total:?} (bolt {n} N)");
+    assert!(
+        (n * l.x.abs() - 0.5 * w).abs() <= 1e-4 * w,
+        "bolt along the joint {} vs {}",
+        n * l.x.abs(),
+        0.5 * w
+    );
+}
