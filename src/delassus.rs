@@ -2,19 +2,17 @@
 //! the one thing the VI solver sees of the mechanics.
 //!
 //! W is assembled explicitly in CSR from *columns*: for every cluster c and every row s of B
-//! that touches c, the column `K̃_c⁻¹ B_sᵀ` restricted to c (one closed-form 6×6 product for
-//! a single body, one pair of triangular solves for a sparse cluster), and then
-//! `W_rs = Σ_c B_r|c · K̃_c⁻¹ B_sᵀ|c`. Two rows are coupled only when they touch a common
-//! cluster, so W stays sparse between clusters (never a dense N×N matrix). Each row is built
-//! straight into CSR (no global triplet sort).
+//! that touches c, the column `K̃_c⁻¹ B_sᵀ` (one closed-form 6×6 product over a single body's
+//! DOFs; for a sparse cluster, over only the set S of its DOFs that rows touch, from the cached
+//! block `(K̃_c⁻¹)_SS`, math note §9.3), and then `W_rs = Σ_c B_r|c · K̃_c⁻¹ B_sᵀ|c`. Two rows are
+//! coupled only when they touch a common cluster, so W stays sparse between clusters (never a
+//! dense N×N matrix). Each row is built straight into CSR (no global triplet sort).
 //!
-//! A cluster whose explicit block would be too big — `rows_c² + rows_c · n_c` numbers above
-//! [`EXPLICIT_LIMIT`], e.g. a long chain lying on the floor with one contact per body — is kept
-//! in operator form instead: `W z` adds `B_c K̃_c⁻¹ B_cᵀ z` by one pair of triangular solves per
-//! product, and only the diagonal `W_rr` is formed (one solve per row, as the columns would take).
-//! The switch is by memory: both forms need one solve per row per step for the diagonal, so the
-//! explicit form is cheaper whenever it fits (a product with a stored block costs far less than a
-//! solve).
+//! A cluster whose explicit block would be too big — `rows_c² + rows_c · len_c` numbers above
+//! [`EXPLICIT_LIMIT`], `len_c` its column length (DOFs, or |S|) — is kept in operator form
+//! instead: `W z` adds `B_c K̃_c⁻¹ B_cᵀ z` by one pair of triangular solves per product, and only
+//! the diagonal `W_rr` is formed (one solve per row). The switch is by memory: a product with a
+//! stored block costs far less than a solve.
 
 use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;

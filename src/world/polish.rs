@@ -117,17 +117,19 @@ impl World {
         }
         let (Some(u), Some(v_t)) = (&svd.u, &svd.v_t) else { return false };
         let before = z.to_vec();
-        let g0 = self.exact_gaps(rows, q, z, &bodies);
+        let mut g = self.exact_gaps(rows, q, z, &bodies);
         let worst = |g: &[f64]| free.iter().fold(0.0f64, |m, &r| m.max(g[r].abs()));
-        let start = worst(&g0);
-        let mut g = g0.clone();
+        let start = worst(&g);
         for _ in 0..PASSES {
             // δd (unit columns) = V Σ⁻¹ Uᵀ (−G_F); then δd = δd_unit / scale
             let gf = DVector::from_iterator(free.len(), free.iter().map(|&r| -g[r]));
             let ug: DVector<f64> = u.transpose() * gf;
             let dd_unit: DVector<f64> = v_t.transpose() * ug.component_div(sv);
             let dd = DVector::from_fn(bodies.dofs, |j, _| dd_unit[j] / scale[j]);
-            let Some(df) = self.body_forces(&bodies, &dd) else { return false };
+            let Some(df) = self.body_forces(&bodies, &dd) else {
+                z.copy_from_slice(&before);
+                return false;
+            };
             // least-norm δz with B_Fᵀ δz = δF: B_Fᵀ = diag(scale) V Σ Uᵀ
             let df_unit = DVector::from_fn(bodies.dofs, |j, _| df[j] / scale[j]);
             let vf: DVector<f64> = v_t * df_unit;
