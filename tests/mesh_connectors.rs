@@ -131,15 +131,6 @@ inertia = 1e-5
     assert!((root.abs() - p * l).abs() <= 1e-5 * p * l, "root moment {root}, exact P L = {}", p * l);
 }
 
-/// `"key": value` from meshes/reference.json (written by meshes/reference.py; keys are unique).
-fn reference(key: &str) -> f64 {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
-    let text = std::fs::read_to_string(path).expect("reference.json");
-    let at = text.find(&format!("\"{key}\":")).unwrap_or_else(|| panic!("{key} in reference.json"));
-    let v = &text[at + key.len() + 3..];
-    v[..v.find(['\n', ',', '}']).expect("end of number")].trim().parse().expect("a number")
-}
-
 /// Peer code on the same discretization: scikit-fem (meshes/reference.py, P1 on slab.msh) solves
 /// the bolted slab linearly, each bolt a spring EA/l on the three nodes of its anchor's triangle
 /// weighted by the area coordinates, plus its tension's geometric stiffness N/l across it (what
@@ -157,7 +148,7 @@ fn bolted_slab_matches_scikit_fem() {
         let mut world = World::new(model);
         settle(&mut world, 10);
         let uy = world.monitors[0].current.y - world.monitors[0].initial.y;
-        let expected = reference(key);
+        let expected = common::reference(&[key]);
         assert!(
             (uy - expected).abs() <= tolerance * expected.abs(),
             "g = {g}: u_y {uy}, scikit-fem {expected}"

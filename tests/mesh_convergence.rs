@@ -1,6 +1,8 @@
 //! Mesh bodies through the whole engine (scene -> World -> steps), against closed forms and peer
 //! code under mesh refinement (math note §9.5).
 
+mod common;
+
 use pbdda::mesh::Mesh;
 use pbdda::world::World;
 use std::path::Path;
@@ -29,15 +31,6 @@ fn mean_uy(world: &World, body: usize, pick: impl Fn(f64, f64) -> bool) -> f64 {
     let ids: Vec<usize> =
         (0..fe.nodes.len()).filter(|&n| pick(fe.reference[n].x, fe.reference[n].y)).collect();
     ids.iter().map(|&n| fe.displacement[n].y).sum::<f64>() / ids.len() as f64
-}
-
-/// `"tip_uy": value` of `mesh` in meshes/reference.json (written by meshes/reference.py).
-fn reference_tip(mesh: &str) -> f64 {
-    let text = std::fs::read_to_string(root().join("meshes/reference.json")).expect("reference.json");
-    let at = text.find(&format!("\"{mesh}\"")).expect("mesh in reference.json");
-    let rest = &text[at..];
-    let v = &rest[rest.find("\"tip_uy\":").expect("tip_uy") + 9..];
-    v[..v.find(['\n', ',', '}']).expect("end of number")].trim().parse().expect("a number")
 }
 
 /// Observed order p = log2((e1 - e2)/(e2 - e3)) of three values on meshes refined by 2, and the
@@ -101,7 +94,7 @@ material = "steel"
         );
         let world = run(&text, 12);
         tips[k] = mean_uy(&world, 0, |x, _| (x - 10.0).abs() < 1e-9);
-        let reference = reference_tip(name);
+        let reference = common::reference(&[name, "tip_uy"]);
         let rel = (tips[k] - reference).abs() / reference.abs();
         assert!(rel < 1e-5, "{name}: tip {:e} vs scikit-fem {reference:e} ({rel:e})", tips[k]);
     }

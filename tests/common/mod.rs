@@ -86,3 +86,17 @@ impl WallHits {
         self.last = Some((vx, vy));
     }
 }
+
+/// A number of meshes/reference.json (written by meshes/reference.py, scikit-fem): the value of
+/// the last of `keys`, each looked up after the one before (`["cantilever_1.msh", "tip_uy"]`).
+pub fn reference(keys: &[&str]) -> f64 {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("meshes/reference.json");
+    let text = std::fs::read_to_string(path).expect("reference.json");
+    let mut at = 0;
+    for key in keys {
+        let quoted = format!("\"{key}\":");
+        at += text[at..].find(&quoted).unwrap_or_else(|| panic!("{key} in reference.json")) + quoted.len();
+    }
+    let v = &text[at..];
+    v[..v.find(['\n', ',', '}']).expect("end of number")].trim().parse().expect("a number")
+}
