@@ -8,12 +8,38 @@
 
 use super::ContactGeom;
 use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
-use crate::geometry::Vec2;
+use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
 
 /// All contacts between polygons `p` and `q` (either order). The polygon with the smaller
 /// body index is handled first, so the result does not depend on the argument order.
 pub fn block_block(p: &Polygon, q: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let (x, y) = if p.body < q.body { (p, q) } else { (q, p) };
+    if x.nodes && y.nodes {
+        return loop_loop(x, y, tol, out);
+    }
+    pairs(x, y, tol, out);
+}
+
+/// L-L (math note §9.2): one pass on flat stretches. Two meshes meeting along a face would
+/// otherwise press every node of each on the other's edges (two-pass node-on-segment): the rows
+/// over-constrain the face, the forces alternate from node to node, and without a large mass
+/// term W is near-singular. The coarser loop (longer mean edge; the smaller body index on a
+/// tie) keeps only its corners — nodes where it turns by more than the straight band — so its
+/// straight nodes make no contact of their own; the finer loop's nodes carry the face.
+fn loop_loop(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    let mean =
+        |p: &Polygon| (0..p.vertex_count()).map(|k| p.edge(k).len).sum::<f64>() / p.vertex_count() as f64;
+    let x_coarser = mean(x) >= mean(y);
+    let master = if x_coarser { x } else { y };
+    let corners: Vec<bool> = (0..master.vertex_count())
+        .map(|k| master.convex[k] && cross(master.edge(master.prev(k)).t, master.edge(k).t) > STRAIGHT_SINE)
+        .collect();
+    let masked = master.with_convex(&corners);
+    if x_coarser { pairs(&masked, y, tol, out) } else { pairs(x, &masked, tol, out) }
+}
+
+/// Joints, vertex-edge and vertex-vertex contacts of `x` (the smaller body index) and `y`.
+fn pairs(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     let mut found = Vec::new();
     super::joint::edge_edge(x, y, tol, &mut found);
     // vertices of the larger index first: where the two bodies' candidates coincide, the one
@@ -27,7 +53,7 @@ pub fn block_block(p: &Polygon, q: &Polygon, tol: &Tolerances, out: &mut Vec<Con
 
 /// Whether vertex k of `x` against edge f of `y` is a vertex-edge contact, apart from where
 /// its projection falls (math note §5, B-B vertex-edge): vertex k convex, g0 within
-/// (-d0, d0) (d0 is both the detection threshold and the penetration allowance), and the
+/// (-d0, threshold) (d0 the penetration allowance, the threshold d0 or its enlargement), and the
 /// cone test (the edges at vertex k do not dip through the edge line). A penetrating vertex
 /// (g0 < 0) must also be inside `y` near the edge ([`Polygon::behind_end_edges`]): below the
 /// edge line but beyond a convex corner's other edge is outside `y`, not a penetration.
@@ -36,7 +62,7 @@ pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol:
     let v = x.vertices[k];
     let g0 = e.height(v);
     x.convex[k]
-        && g0 > -tol.threshold
+        && g0 > -tol.depth
         && g0 < tol.threshold
         && x.cone_clear(k, e.n_out, tol)
         && (g0 >= 0.0 || y.behind_end_edges(f, v, tol))
@@ -132,6 +158,33 @@ mod tests {
     /// vertex (0.5, 1.03) sits above the top edge of [0,1]² (edge 2, from (1,1) to (0,1)):
     /// A = lower square (edge owner), n = n_in = -y, g0 = 0.03, point (0.5, 1.015).
     /// The other vertices of the tilted square are at least sin(10°) higher.
+    /// L-L on a flat face (math note §9.2, one pass): a fine loop, [0,2]×[-1,0] with top nodes
+    /// every 0.25 m (mean edge 0.55 m), under a coarse one, [0.5,1.5]×[0.01,1.01] with bottom
+    /// nodes at x = 0.5, 0.9, 1.5 (mean edge 0.8 m), 0.01 apart. The coarse loop keeps only its
+    /// corners: its bottom corners (vertices 0, 2) bear on the fine face (A = fine loop, n = -y
+    /// into it); its straight node at x = 0.9 makes no contact (two passes would add it, on the
+    /// fine edge from x = 1 to 0.75). The fine face's nodes at x = 0.75, 1, 1.25 (vertices 7, 6,
+    /// 5) bear on the coarse bottom edges (A = coarse loop, n = +y). g0 = 0.01 everywhere.
+    #[test]
+    fn loop_loop_face_is_one_pass() {
+        let as_loop = |pts: &[(f64, f64)]| {
+            let v: Vec<crate::geometry::Vec2> =
+                pts.iter().map(|&(x, y)| crate::geometry::Vec2::new(x, y)).collect();
+            let convex = crate::geometry::loop_contact_flags(&v);
+            super::super::BodyShape::Polygon { vertices: v, convex, nodes: true, holes: Vec::new() }
+        };
+        let mut fine = vec![(0.0, -1.0), (2.0, -1.0), (2.0, 0.0)];
+        fine.extend((0..8).map(|k| (1.75 - 0.25 * k as f64, 0.0)));
+        let coarse = [(0.5, 0.01), (0.9, 0.01), (1.5, 0.01), (1.5, 1.01), (0.5, 1.01)];
+        let c = contacts(0, 1, &as_loop(&fine), &as_loop(&coarse), D0);
+        assert_eq!(c.len(), 5, "{c:?}");
+        check(&c[0], key(0, Edge(4), 1, Vertex(2)), BB, (0.0, -1.0), 0.01, (1.5, 0.005), TOL);
+        check(&c[1], key(0, Edge(7), 1, Vertex(0)), BB, (0.0, -1.0), 0.01, (0.5, 0.005), TOL);
+        check(&c[2], key(1, Edge(0), 0, Vertex(7)), BB, (0.0, 1.0), 0.01, (0.75, 0.005), TOL);
+        check(&c[3], key(1, Edge(1), 0, Vertex(5)), BB, (0.0, 1.0), 0.01, (1.25, 0.005), TOL);
+        check(&c[4], key(1, Edge(1), 0, Vertex(6)), BB, (0.0, 1.0), 0.01, (1.0, 0.005), TOL);
+    }
+
     #[test]
     fn vertex_above_edge() {
         let a = 10f64.to_radians();
@@ -221,7 +274,7 @@ mod tests {
         use super::super::super::narrow::Tolerances;
         use super::super::super::{BodyShape, ContactGeom};
         use super::*;
-        use crate::geometry::Vec2;
+        use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
         use proptest::prelude::*;
 
         const D0: f64 = 0.02;

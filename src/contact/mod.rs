@@ -145,10 +145,20 @@ pub struct ContactGeom {
 /// Finds all contacts with `g0 < threshold` between pairs of bodies that are not both fixed.
 /// The result is sorted by key, so that runs are deterministic.
 pub fn detect(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<ContactGeom> {
-    let pairs = broad::candidate_pairs(shapes, fixed, threshold);
+    detect_reaching(shapes, fixed, threshold, threshold)
+}
+
+/// [`detect`] with the threshold enlarged to `reach` for a step's predicted motion (math note
+/// §5) while a vertex may still start at most `depth` (d0) inside the other body's edge line:
+/// the enlargement looks farther ahead, never deeper inside (a vertex `reach` deep behind an
+/// edge of a body thinner than that is on the body's far side, and its contact, opposite to
+/// the near side's, would make the VI unbounded).
+pub fn detect_reaching(shapes: &[BodyShape], fixed: &[bool], reach: f64, depth: f64) -> Vec<ContactGeom> {
+    let pairs = broad::candidate_pairs(shapes, fixed, reach);
+    let tol = narrow::Tolerances::new(reach).with_depth(depth);
     let mut out = Vec::new();
     for (i, j) in pairs {
-        narrow::pair_contacts(i, j, &shapes[i], &shapes[j], threshold, &mut out);
+        narrow::pair_contacts_with(i, j, &shapes[i], &shapes[j], &tol, &mut out);
     }
     out.sort_by_key(|c| c.key);
     out

@@ -36,7 +36,19 @@ pub fn pair_contacts(
     threshold: f64,
     out: &mut Vec<ContactGeom>,
 ) {
-    let tol = Tolerances::new(threshold);
+    pair_contacts_with(i, j, shape_i, shape_j, &Tolerances::new(threshold), out);
+}
+
+/// [`pair_contacts`] with given tolerances.
+pub(crate) fn pair_contacts_with(
+    i: usize,
+    j: usize,
+    shape_i: &BodyShape,
+    shape_j: &BodyShape,
+    tol: &Tolerances,
+    out: &mut Vec<ContactGeom>,
+) {
+    let tol = *tol;
     match (Body::of(i, shape_i), Body::of(j, shape_j)) {
         (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, &tol, out),
         (Body::Particle(p), Body::Polygon(b)) | (Body::Polygon(b), Body::Particle(p)) => {
@@ -88,9 +100,11 @@ impl<'a> Body<'a> {
 /// The tolerances of one detection pass, all derived from the contact threshold.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tolerances {
-    /// d0 in the paper: contacts are created for g0 < d0; vertex-edge contacts also need
-    /// g0 > -d0 (penetration allowance).
+    /// d0 in the paper, or d0 enlarged for a step's predicted motion: contacts are created for
+    /// g0 < threshold.
     pub threshold: f64,
+    /// d0: vertex-edge contacts also need g0 > -depth (penetration allowance; not enlarged).
+    pub depth: f64,
     /// cos of [`ANGLE_TOLERANCE_DEG`].
     pub cos_angle: f64,
     /// sin of [`ANGLE_TOLERANCE_DEG`].
@@ -107,10 +121,16 @@ impl Tolerances {
         g0 < self.threshold
     }
 
+    /// These tolerances with the penetration allowance `depth` (at most the threshold).
+    pub fn with_depth(self, depth: f64) -> Tolerances {
+        Tolerances { depth: depth.min(self.threshold), ..self }
+    }
+
     pub fn new(threshold: f64) -> Tolerances {
         let angle = ANGLE_TOLERANCE_DEG.to_radians();
         Tolerances {
             threshold,
+            depth: threshold,
             cos_angle: angle.cos(),
             sin_angle: angle.sin(),
             merge: MERGE_FRACTION * threshold.max(0.0),
@@ -188,6 +208,14 @@ impl<'a> Polygon<'a> {
             })
             .collect();
         Polygon { body, vertices, convex, nodes: false, hole: false, first: 0, edges }
+    }
+
+    /// The same polygon with other contact-vertex flags.
+    pub fn with_convex<'b>(&self, convex: &'b [bool]) -> Polygon<'b>
+    where
+        'a: 'b,
+    {
+        Polygon { convex, ..self.clone() }
     }
 
     /// The body's number of vertex or edge k of this loop, for its contact features: loops
@@ -286,10 +314,31 @@ pub(crate) fn vertex_edge_geom(x: &Polygon, k: usize, y: &Polygon, f: usize) -> 
 #[cfg(test)]
 mod tests {
     use super::super::testkit::*;
-    use super::super::{ContactKind, Feature::*, JointKey, detect};
+    use super::super::{ContactKind, Feature::*, JointKey, detect, detect_reaching};
 
     /// Closed forms evaluated in f64 from coordinates of order 10-100: a few ulp.
     const TOL: f64 = 1e-11;
+
+    /// A threshold enlarged for a big step looks farther ahead, never deeper inside (math note
+    /// §5): a 1 m block (body 1) 0.01 above a 0.3 m plate (body 0, [0,2]×[-0.3,0]), threshold
+    /// enlarged to 12.5 (a predicted fall of 5 m) with d0 = 0.1. The block's bottom corners lie
+    /// 0.31 behind the plate's bottom edge (edge 0, outward normal -y): with the enlargement as
+    /// the penetration bound too they made contacts there, opposite to those on the top face, and
+    /// the pair's VI was unbounded (a meshed block on a meshed base diverged at dt = 1 s). With
+    /// the bound kept at d0 no contact uses edge 0; the top face still holds the block.
+    #[test]
+    fn enlarged_threshold_does_not_reach_through_a_plate() {
+        let shapes = [rect(0.0, -0.3, 2.0, 0.0), rect(0.5, 0.01, 1.5, 1.01)];
+        let through = |c: &[crate::contact::ContactGeom]| {
+            c.iter().filter(|c| c.key.a == 0 && c.key.fa == Edge(0)).count()
+        };
+        assert_eq!(through(&detect(&shapes, &[true, false], 12.5)), 2);
+        let c = detect_reaching(&shapes, &[true, false], 12.5, 0.1);
+        assert_eq!(through(&c), 0, "{c:?}");
+        let top: Vec<_> = c.iter().filter(|c| (c.point.y - 0.005).abs() < 1e-12).collect();
+        assert_eq!(top.len(), 2, "the block's bottom corners on the plate's top: {c:?}");
+        assert!(top.iter().all(|c| (c.g0 - 0.01).abs() < 1e-12));
+    }
 
     /// Math note §7.4 frame: four fixed walls (bodies 0-3: bottom, top, left, right) around the
     /// inner square [-60,60]², walls touching at the corners; a free 20×20 square (body 4)

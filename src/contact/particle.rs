@@ -116,7 +116,7 @@ fn particle_loop(p: &Particle, b: &Polygon, tol: &Tolerances, out: &mut Vec<Cont
         let s = e.along(p.center);
         let near = 0.01 * e.len;
         let (start, end) = (touched[f], touched[b.next(f)]);
-        let bracketed = start && end && sagitta(p.outer, e.len) <= SAGITTA_FRACTION * tol.threshold;
+        let bracketed = start && end && sagitta(p.outer, e.len) <= SAGITTA_FRACTION * tol.depth;
         if !(bracketed || (s <= near && start) || (s >= e.len - near && end)) {
             particle_edge(p, b, f, tol, out);
         }

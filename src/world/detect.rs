@@ -3,7 +3,7 @@
 use super::World;
 use crate::contact::law::Law;
 use crate::contact::set::{Memory, joint_partners};
-use crate::contact::{ContactGeom, ContactKind, detect};
+use crate::contact::{ContactGeom, ContactKind, detect, detect_reaching};
 
 /// A detected contact: geometry, law and what it remembers from the last step. Immutable
 /// once detected; the solve stages linearize it (see `rows.rs`).
@@ -25,7 +25,7 @@ impl World {
             .map(|b| self.bodies[b].max_motion(&df[self.dofs.range(b)]))
             .fold(0.0, f64::max);
         let threshold = self.threshold.max(2.5 * u_max);
-        let mut geoms = detect(&self.shapes(), &self.fixed(), threshold);
+        let mut geoms = detect_reaching(&self.shapes(), &self.fixed(), threshold, self.threshold);
         let meshes: Vec<bool> = self.bodies.iter().map(|b| b.mesh.is_some()).collect();
         crate::contact::label_mesh_kinds(&mut geoms, &meshes);
         let partners = joint_partners(&geoms);
