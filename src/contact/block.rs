@@ -274,7 +274,7 @@ mod tests {
         use super::super::super::narrow::Tolerances;
         use super::super::super::{BodyShape, ContactGeom};
         use super::*;
-        use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
+        use crate::geometry::Vec2;
         use proptest::prelude::*;
 
         const D0: f64 = 0.02;
