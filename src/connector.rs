@@ -414,14 +414,41 @@ impl Connector {
 /// coordinates of the triangle holding x (`held`, else located now) on its nodes' free DOFs
 /// (math note §9.2).
 fn end_map(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>, DMatrix<f64>) {
+    let (cols, g) = anchor_rows(body, x, held, false);
+    (cols, g.rows(0, 2).into_owned())
+}
+
+/// [`end_map`], and with `turn` a third row: how the anchor turns (see [`beam_end`]).
+fn anchor_rows(
+    body: &Body,
+    x: Vec2,
+    held: Option<(usize, [f64; 3])>,
+    turn: bool,
+) -> (Vec<usize>, DMatrix<f64>) {
     let Some(fe) = body.mesh.as_ref().filter(|_| !body.fixed) else {
-        return ((0..body.ndof()).collect(), t_rows(body, x));
+        let n = body.ndof();
+        let mut g = DMatrix::zeros(3, n);
+        g.view_mut((0, 0), (2, n)).copy_from(&t_rows(body, x));
+        if turn && n > 0 {
+            g[(2, 2)] = 1.0; // E_b: the rotation DOF r0 (module docs)
+        }
+        return ((0..n).collect(), g);
     };
-    let Some((e, l)) = held.or_else(|| fe.locate(x)) else { return (Vec::new(), DMatrix::zeros(2, 0)) };
-    let (dofs, w): (Vec<usize>, Vec<f64>) = fe.point_dofs(e, l).unzip();
-    let cols = dofs.iter().flat_map(|&d| [d, d + 1]).collect();
-    let g = DMatrix::from_fn(2, 2 * w.len(), |r, c| if c % 2 == r { w[c / 2] } else { 0.0 });
-    (cols, g)
+    let Some((e, l)) = held.or_else(|| fe.locate(x)) else { return (Vec::new(), DMatrix::zeros(3, 0)) };
+    let mut cols = Vec::with_capacity(6);
+    let mut g = DMatrix::zeros(3, 6);
+    for (j, (d, w)) in fe.point_dofs(e, l).enumerate() {
+        cols.extend([d, d + 1]);
+        (g[(0, 2 * j)], g[(1, 2 * j + 1)]) = (w, w);
+    }
+    if turn {
+        // rotation_dofs lists the triangle's free nodes in point_dofs' order
+        for (j, (_, wx, wy)) in fe.rotation_dofs(e).enumerate() {
+            (g[(2, 2 * j)], g[(2, 2 * j + 1)]) = (wx, wy);
+        }
+    }
+    let n = cols.len();
+    (cols, g.columns(0, n).into_owned())
 }
 
 /// How a beam's anchor x moves and turns, `(u(x), θ) = G d[cols]` (3 rows, [`end_map`] for the
@@ -430,23 +457,7 @@ fn end_map(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>
 /// combination of the same three nodes' DOFs ([`MeshBody::rotation_dofs`]), so the beam's end
 /// moment reaches the mesh as a couple of nodal forces on that triangle (math note §9.2).
 fn beam_end(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>, DMatrix<f64>) {
-    let (cols, t) = end_map(body, x, held);
-    let mut g = DMatrix::zeros(3, cols.len());
-    g.view_mut((0, 0), (2, cols.len())).copy_from(&t);
-    match body.mesh.as_ref().filter(|_| !body.fixed) {
-        Some(fe) => {
-            if let Some((e, _)) = held.or_else(|| fe.locate(x)) {
-                for (d, wx, wy) in fe.rotation_dofs(e) {
-                    if let Some(c) = cols.iter().position(|&k| k == d) {
-                        (g[(2, c)], g[(2, c + 1)]) = (wx, wy);
-                    }
-                }
-            }
-        }
-        None if !cols.is_empty() => g[(2, 2)] = 1.0,
-        None => {}
-    }
-    (cols, g)
+    anchor_rows(body, x, held, true)
 }
 
 /// `T_b(x)`: 2 × ndof (paper eqs. 3, 5, 7).

@@ -121,8 +121,7 @@ inertia = 1e-5
     let mut world = World::new(model);
     settle(&mut world, 200);
     let (e, area, inertia, p, l): (f64, f64, f64, f64, f64) = (2e11, 1e-2, 1e-5, 1.0, 1.0);
-    let deflection = p * l.powi(3) / (3.0 * e * inertia) + 1.2 * p * l / (e / 2.6 * area);
-    let rotation = p * l * l / (2.0 * e * inertia);
+    let (deflection, rotation) = common::timoshenko_tip(e, area, inertia, p, l);
     let dy = 0.4 - world.connectors[0].anchors[1].y;
     assert!((dy - deflection).abs() <= 1e-5 * deflection, "anchor sinks {dy}, exact {deflection}");
     let turn = -world.bodies[1].rotation;

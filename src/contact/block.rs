@@ -8,7 +8,7 @@
 
 use super::ContactGeom;
 use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
-use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
+use crate::geometry::{STRAIGHT_SINE, Vec2};
 
 /// All contacts between polygons `p` and `q` (either order). The polygon with the smaller
 /// body index is handled first, so the result does not depend on the argument order.
@@ -31,9 +31,8 @@ fn loop_loop(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGe
         |p: &Polygon| (0..p.vertex_count()).map(|k| p.edge(k).len).sum::<f64>() / p.vertex_count() as f64;
     let x_coarser = mean(x) >= mean(y);
     let master = if x_coarser { x } else { y };
-    let corners: Vec<bool> = (0..master.vertex_count())
-        .map(|k| master.convex[k] && cross(master.edge(master.prev(k)).t, master.edge(k).t) > STRAIGHT_SINE)
-        .collect();
+    let corners: Vec<bool> =
+        (0..master.vertex_count()).map(|k| master.convex[k] && master.turn(k) > STRAIGHT_SINE).collect();
     let masked = master.with_convex(&corners);
     if x_coarser { pairs(&masked, y, tol, out) } else { pairs(x, &masked, tol, out) }
 }

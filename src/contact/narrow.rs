@@ -51,27 +51,29 @@ pub(crate) fn pair_contacts_with(
     let tol = *tol;
     match (Body::of(i, shape_i), Body::of(j, shape_j)) {
         (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, &tol, out),
-        (Body::Particle(p), Body::Polygon(b)) | (Body::Polygon(b), Body::Particle(p)) => {
-            for l in &b {
+        (Body::Particle(p), Body::Polygon(b, holes)) | (Body::Polygon(b, holes), Body::Particle(p)) => {
+            for l in std::iter::once(&b).chain(&holes) {
                 super::particle::particle_block(&p, l, &tol, out);
             }
         }
-        (Body::Polygon(a), Body::Polygon(b)) => {
+        (Body::Polygon(a, a_holes), Body::Polygon(b, b_holes)) => {
             // two holes never meet: a body in a hole of the other meets it with its outer loop
-            for (la, lb) in a.iter().flat_map(|la| b.iter().map(move |lb| (la, lb))) {
-                if !(la.hole && lb.hole) {
-                    super::block::block_block(la, lb, &tol, out);
-                }
+            super::block::block_block(&a, &b, &tol, out);
+            for h in &b_holes {
+                super::block::block_block(&a, h, &tol, out);
+            }
+            for h in &a_holes {
+                super::block::block_block(h, &b, &tol, out);
             }
         }
     }
 }
 
-/// A body as the narrow phase sees it: a particle, or the loops of a polygon (its outline, then
-/// a mesh's holes).
+/// A body as the narrow phase sees it: a particle, or a polygon's outline and a mesh's holes
+/// (no allocation for a polygon without holes).
 enum Body<'a> {
     Particle(Particle),
-    Polygon(Vec<Polygon<'a>>),
+    Polygon(Polygon<'a>, Vec<Polygon<'a>>),
 }
 
 impl<'a> Body<'a> {
@@ -84,14 +86,13 @@ impl<'a> Body<'a> {
                 Body::Particle(Particle { body, center, outer, inner })
             }
             BodyShape::Polygon { ref vertices, ref convex, nodes, ref holes } => {
-                let mut loops = vec![Polygon { nodes, ..Polygon::new(body, vertices, convex) }];
-                let mut first = vertices.len();
+                let (mut loops, mut first) = (Vec::with_capacity(holes.len()), vertices.len());
                 for h in holes {
                     let hole = Polygon::new(body, &h.vertices, &h.convex);
                     loops.push(Polygon { nodes, hole: true, first: first as u32, ..hole });
                     first += h.vertices.len();
                 }
-                Body::Polygon(loops)
+                Body::Polygon(Polygon { nodes, ..Polygon::new(body, vertices, convex) }, loops)
             }
         }
     }
@@ -208,6 +209,13 @@ impl<'a> Polygon<'a> {
             })
             .collect();
         Polygon { body, vertices, convex, nodes: false, hole: false, first: 0, edges }
+    }
+
+    /// Sine of the turn at vertex k (cross product of its edges' unit directions): positive
+    /// at a convex corner, within ±[`STRAIGHT_SINE`](crate::geometry::STRAIGHT_SINE) on a
+    /// straight stretch of a loop.
+    pub fn turn(&self, k: usize) -> f64 {
+        crate::geometry::cross(self.edges[self.prev(k)].t, self.edges[k].t)
     }
 
     /// The same polygon with other contact-vertex flags.

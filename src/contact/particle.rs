@@ -4,7 +4,7 @@
 
 use super::narrow::{Particle, Polygon, Tolerances, plain_contact};
 use super::{ContactGeom, ContactKey, ContactKind, Feature};
-use crate::geometry::{STRAIGHT_SINE, Vec2, cross};
+use crate::geometry::{STRAIGHT_SINE, Vec2};
 
 /// Contacts between two particles (P-P, paper Figure 2): inside a ring's hole when the centre
 /// of one particle lies in the hole of the other, otherwise outside.
@@ -141,9 +141,7 @@ fn node_contact(p: &Particle, b: &Polygon, k: usize) -> Option<(Vec2, f64, Vec2)
     let v = b.vertices[k];
     let d = p.center - v;
     let (n_in, n_out) = (b.edge(b.prev(k)).n_out, b.edge(k).n_out);
-    let (t_in, t_out) = (b.edge(b.prev(k)).t, b.edge(k).t);
-    let straight = cross(t_in, t_out).abs() <= STRAIGHT_SINE;
-    if straight {
+    if b.turn(k).abs() <= STRAIGHT_SINE {
         let nrm = (n_in + n_out).normalize();
         let along = d.dot(&nrm);
         let off = (d - along * nrm).norm_squared();

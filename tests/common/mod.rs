@@ -100,3 +100,11 @@ pub fn reference(keys: &[&str]) -> f64 {
     let v = &text[at..];
     v[..v.find(['\n', ',', '}']).expect("end of number")].trim().parse().expect("a number")
 }
+
+/// Tip deflection and rotation of a Timoshenko cantilever of length `l` under a tip load `p`
+/// (a beam connector's defaults: shear modulus E/(2(1 + 0.3)), shear factor 1.2):
+/// `p l³/(3EI) + 1.2 p l/(GA)` and `p l²/(2EI)`.
+pub fn timoshenko_tip(e: f64, area: f64, inertia: f64, p: f64, l: f64) -> (f64, f64) {
+    let g = e / (2.0 * 1.3);
+    (p * l.powi(3) / (3.0 * e * inertia) + 1.2 * p * l / (g * area), p * l * l / (2.0 * e * inertia))
+}
