@@ -48,11 +48,17 @@ pub struct Scratch {
     /// Per segment of B, the position of its first DOF in its cluster's columns.
     seg_at: Vec<usize>,
     columns: Vec<f64>,
+    /// Per place, its range of `term_at`/`term_val` (`places + 1` offsets): B_r|c as
+    /// (position in the cluster's columns, value) pairs.
+    place_term: Vec<usize>,
+    term_at: Vec<usize>,
+    term_val: Vec<f64>,
     /// Per row of W, its places (CSR: `row_place_start` has `rows + 1` offsets).
     row_place_start: Vec<usize>,
     row_places: Vec<usize>,
-    /// One row of W before sorting and merging: (column, push index, value).
-    entries: Vec<(usize, usize, f64)>,
+    /// The merge of one row of W: per place of the row, (place, cursor, end) over the places
+    /// of its cluster.
+    cursors: Vec<(usize, usize, usize)>,
 }
 
 /// Above this many numbers (`rows_c² + rows_c · n_c`) a cluster's part of W is kept in operator
@@ -274,6 +280,24 @@ impl Scratch {
         }
         self.cluster_place.push(self.place_row.len());
         self.place_seg.push(self.order.len());
+        self.terms(jac);
+    }
+
+    /// Each place's row B_r|c flattened to (position in the cluster's columns, value) pairs,
+    /// segment by segment in `order`: what [`Self::entry`] dots with a column.
+    fn terms(&mut self, jac: &Jacobian) {
+        self.place_term.clear();
+        self.term_at.clear();
+        self.term_val.clear();
+        for p in 0..self.place_row.len() {
+            self.place_term.push(self.term_at.len());
+            for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
+                let (s, at) = (&jac.segments[si], self.seg_at[si]);
+                self.term_at.extend(at..at + s.len);
+                self.term_val.extend_from_slice(&s.vals.as_slice()[..s.len]);
+            }
+        }
+        self.place_term.push(self.term_at.len());
     }
 
     /// Each place's column K̃_c⁻¹ B_rᵀ|c: over the cluster's DOF range by one solve for a single
@@ -314,6 +338,13 @@ impl Scratch {
         }
     }
 
+    /// B_r|c · K̃_c⁻¹ B_sᵀ|c for place p = (c, r) and place q = (c, s) of the same cluster.
+    fn entry(&self, p: usize, q: usize) -> f64 {
+        let col = &self.columns[self.place_col[q]..];
+        let terms = self.place_term[p]..self.place_term[p + 1];
+        self.term_at[terms.clone()].iter().zip(&self.term_val[terms]).map(|(&at, v)| v * col[at]).sum()
+    }
+
     /// W's explicit part: row r gets, for every place (c, r), B_r|c · K̃_c⁻¹ B_sᵀ|c for every
     /// row s touching c; entries of a column reached through two clusters are summed, in
     /// cluster order.
@@ -341,31 +372,29 @@ impl Scratch {
         let (mut indices, mut data) = (Vec::with_capacity(bound), Vec::with_capacity(bound));
         indptr.push(0);
         for r in 0..jac.rows {
-            self.entries.clear();
-            for &p in &self.row_places[starts[r]..starts[r + 1]] {
+            // Row r merges, by column, the rows of the clusters it touches: each cluster's
+            // places ascend by row, so a k-way merge (k = the row's places, ascending by
+            // cluster) gives the columns in order, and a column reached through two clusters
+            // is summed in cluster order. No sort, no allocation.
+            self.cursors.clear();
+            let places = self.row_place_start[r]..self.row_place_start[r + 1];
+            for &p in &self.row_places[places] {
                 let c = self.place_cluster[p];
-                for q in self.cluster_place[c]..self.cluster_place[c + 1] {
-                    let col = &self.columns[self.place_col[q]..];
-                    let mut v = 0.0;
-                    for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
-                        let s = &jac.segments[si];
-                        let at = self.seg_at[si];
-                        v += (0..s.len).map(|i| s.vals[i] * col[at + i]).sum::<f64>();
-                    }
-                    self.entries.push((self.place_row[q], self.entries.len(), v));
-                }
+                self.cursors.push((p, self.cluster_place[c], self.cluster_place[c + 1]));
             }
-            // by column, then in push (cluster) order: sums in a fixed order, no allocation
-            self.entries.sort_unstable_by_key(|e| (e.0, e.1));
-            let first = indices.len();
-            for &(s, _, v) in &self.entries {
-                match data.last_mut() {
-                    Some(last) if indices.len() > first && indices.last() == Some(&s) => *last += v,
-                    _ => {
-                        indices.push(s);
-                        data.push(v);
+            loop {
+                let next = self.cursors.iter().filter(|k| k.1 < k.2).map(|k| self.place_row[k.1]).min();
+                let Some(col) = next else { break };
+                let mut v = 0.0;
+                for k in 0..self.cursors.len() {
+                    let (p, q, end) = self.cursors[k];
+                    if q < end && self.place_row[q] == col {
+                        v += self.entry(p, q);
+                        self.cursors[k].1 += 1;
                     }
                 }
+                indices.push(col);
+                data.push(v);
             }
             indptr.push(indices.len());
         }
