@@ -6,7 +6,8 @@
 //! DOFs; for a sparse cluster, over only the set S of its DOFs that rows touch, from the cached
 //! block `(K̃_c⁻¹)_SS`, math note §9.3), and then `W_rs = Σ_c B_r|c · K̃_c⁻¹ B_sᵀ|c`. Two rows are
 //! coupled only when they touch a common cluster, so W stays sparse between clusters (never a
-//! dense N×N matrix). Each row is built straight into CSR (no global triplet sort).
+//! dense N×N matrix). Each row is built straight into CSR by merging, column by column, the
+//! rows of the clusters it touches (no sort).
 //!
 //! A cluster whose explicit block would be too big — `rows_c² + rows_c · len_c` numbers above
 //! [`EXPLICIT_LIMIT`], `len_c` its column length (DOFs, or |S|) — is kept in operator form
