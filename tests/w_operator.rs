@@ -188,6 +188,7 @@ fn check_scene(
         }
         prop_assert!((diag[c] - w[[c, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())));
     }
+    check_body_form(&jac, &flex, &map, |r, c| w[[r, c]])?;
     let kinv = k_dense.clone().lu().try_inverse().expect("K̃ invertible");
     let reference: DMatrix<f64> = &b_dense * &kinv * b_dense.transpose();
     let scale = reference.amax().max(1e-300);
@@ -205,6 +206,105 @@ fn check_scene(
     let eig = SymmetricEigen::new(reference.clone());
     prop_assert!(eig.eigenvalues.min() >= -1e-10 * scale, "min eigenvalue {}", eig.eigenvalues.min());
     Ok(())
+}
+
+/// The body form (math note §3.3: single bodies applied through K̃_c⁻¹, the rest explicit)
+/// against the assembled W: products with the unit vectors and the diagonal within 1e-10 of W's
+/// largest entry (the same sums in another order, ~1e-16 each), and its bound M >= |W| entrywise:
+/// (M x)_r >= (|W| x)_r for x >= 0, less round-off (1e-12 of the largest |W| row sum).
+fn check_body_form(
+    jac: &Jacobian,
+    flex: &Flexibility,
+    map: &DofMap,
+    w: impl Fn(usize, usize) -> f64,
+) -> Result<(), TestCaseError> {
+    let rows = jac.rows;
+    let scale = (0..rows)
+        .flat_map(|r| (0..rows).map(move |c| (r, c)))
+        .fold(1e-300f64, |m, (r, c)| m.max(w(r, c).abs()));
+    let op =
+        delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
+    let mut diag = vec![0.0; rows];
+    op.diagonal(&mut diag);
+    for c in 0..rows {
+        let mut e = vec![0.0; rows];
+        e[c] = 1.0;
+        let mut col = vec![0.0; rows];
+        op.apply(&e, &mut col);
+        for (r, x) in col.iter().enumerate() {
+            prop_assert!((x - w(r, c)).abs() <= 1e-10 * scale, "body form W[{r},{c}] = {x} vs {}", w(r, c));
+        }
+        prop_assert!((diag[c] - w(c, c)).abs() <= 1e-10 * scale);
+    }
+    let x: Vec<f64> = (0..rows).map(|i| 1.0 + (i % 3) as f64).collect();
+    let mut m = vec![0.0; rows];
+    prop_assert!(op.abs_apply(&x, &mut m));
+    let sums: Vec<f64> = (0..rows).map(|r| (0..rows).map(|c| w(r, c).abs() * x[c]).sum()).collect();
+    let largest = sums.iter().fold(1e-300f64, |a, b| a.max(*b));
+    for r in 0..rows {
+        prop_assert!(m[r] >= sums[r] - 1e-12 * largest, "bound row {r}: {} < {}", m[r], sums[r]);
+    }
+    Ok(())
+}
+
+/// On disks touching at their rims (contact points on both rims, normals along the centre line) no
+/// two rows share both bodies with nonzero cross terms per body, so the body form's bound M equals
+/// |W| and MPRGP's step length is Gershgorin's bound of the explicit W (math note §3.3): equal to
+/// 1e-12 relative (round-off of the two sums). Seven rigid disks in a hexagonal cluster, every
+/// touching pair a contact.
+#[test]
+fn body_form_bound_is_gershgorin_on_touching_disks() {
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let mut centres = vec![Vec2::zeros()];
+    centres.extend((0..6).map(|k| {
+        let a = std::f64::consts::FRAC_PI_3 * k as f64;
+        Vec2::new(a.cos(), a.sin())
+    }));
+    let bodies: Vec<Body> = (centres.iter().enumerate())
+        .map(|(i, c)| Body::new(&spec(i, 0, c.x, c.y, 0.5, false, false), &material, Plane::Stress))
+        .collect();
+    let map = DofMap::new(&bodies, &[]);
+    let mut flex = Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let mut jac = Jacobian::default();
+    let mut pairs = vec![];
+    for a in 0..7 {
+        for b in a + 1..7 {
+            if ((centres[a] - centres[b]).norm() - 1.0).abs() < 1e-9 {
+                pairs.push((a, b));
+            }
+        }
+    }
+    assert_eq!(pairs.len(), 12, "6 spokes and 6 rim contacts");
+    jac.reset(2 * pairs.len());
+    for (k, &(a, b)) in pairs.iter().enumerate() {
+        let n = (centres[a] - centres[b]).normalize();
+        let x = centres[b] + 0.5 * n;
+        for (body, sign) in [(a, 1.0), (b, -1.0)] {
+            let r = map.range(body);
+            for (row, dir) in [(2 * k, n), (2 * k + 1, cw(n))] {
+                jac.push(
+                    row,
+                    map.cluster_of(body).unwrap(),
+                    r.start,
+                    r.len(),
+                    bodies[body].shape_row(x, dir) * sign,
+                );
+            }
+        }
+    }
+    let w = delassus::assemble(&jac, &flex, &map).to_dense();
+    let rows = jac.rows;
+    let sc: Vec<f64> = (0..rows).map(|i| 1.0 / w[[i, i]].sqrt()).collect();
+    let gershgorin = (0..rows)
+        .map(|r| (0..rows).map(|c| sc[r] * w[[r, c]].abs() * sc[c]).sum::<f64>())
+        .fold(0.0, f64::max);
+    let op =
+        delassus::ContactOperator::with_scratch(&jac, &flex, &map, usize::MAX, true, &mut Default::default());
+    let mut m = vec![0.0; rows];
+    assert!(op.abs_apply(&sc, &mut m));
+    let bound = (0..rows).map(|r| sc[r] * m[r]).fold(0.0, f64::max);
+    assert!((bound - gershgorin).abs() <= 1e-12 * gershgorin, "bound {bound} vs Gershgorin {gershgorin}");
 }
 
 proptest! {

@@ -513,8 +513,19 @@ impl Solver {
             let c = pc::Ctx::new(rows, s, par, correction, measure);
             outer_run(c, &pass, v, &mut st, z, gershgorin, mprgp)
         } else {
+            // Gershgorin's bound of Ŵ = S W S from a bound M >= |W|: max_i sc_i (M sc)_i
+            let gershgorin = (mprgp && p.w.abs_apply(&s.sc, &mut v.tmp))
+                .then(|| v.tmp.iter().zip(&s.sc).map(|(m, c)| m * c).fold(0.0, f64::max));
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, None, mprgp)
+            outer_run(
+                pc::Ctx::new(rows, s, par, correction, measure),
+                &pass,
+                v,
+                &mut st,
+                z,
+                gershgorin,
+                mprgp,
+            )
         };
         self.stats = st.stats;
         report

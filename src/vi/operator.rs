@@ -16,6 +16,12 @@ pub trait Operator: Sync {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         None
     }
+    /// out = M x (overwrites out) for some M >= |W| entrywise, when that is cheap (MPRGP's step
+    /// length then comes from Gershgorin's bound of M instead of power iterations); false
+    /// otherwise (the default), out unspecified.
+    fn abs_apply(&self, _x: &[f64], _out: &mut [f64]) -> bool {
+        false
+    }
 }
 
 /// W stored explicitly with both triangles. CSC storage is accepted too: [`Operator::as_csr`]
@@ -34,6 +40,10 @@ impl Operator for CsMat<f64> {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         Some(if self.is_csr() { self.view() } else { self.transpose_view() })
     }
+    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
+        abs_apply_view(self.view(), x, out);
+        true
+    }
 }
 
 /// A borrowed explicit W (see the impl for [`CsMat`]).
@@ -50,6 +60,10 @@ impl Operator for CsMatView<'_, f64> {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         Some(if self.is_csr() { self.view() } else { self.transpose_view() })
     }
+    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
+        abs_apply_view(self.view(), x, out);
+        true
+    }
 }
 
 /// out = W z for CSR or CSC storage.
@@ -64,6 +78,17 @@ fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
             for (i, &v) in col.iter() {
                 out[i] += v * z[j];
             }
+        }
+    }
+}
+
+/// out = |W| x for CSR or CSC storage.
+fn abs_apply_view(w: CsMatView<'_, f64>, x: &[f64], out: &mut [f64]) {
+    out.fill(0.0);
+    for (i, vec) in w.outer_iterator().enumerate() {
+        for (j, &v) in vec.iter() {
+            let (r, c) = if w.is_csr() { (i, j) } else { (j, i) };
+            out[r] += v.abs() * x[c];
         }
     }
 }

@@ -12,6 +12,7 @@ use crate::body::Dofs;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
 use crate::jacobian::Jacobian;
+use crate::vi::Method;
 
 /// The linearization of one contact's gap.
 #[derive(Debug, Clone, Copy)]
@@ -74,11 +75,14 @@ impl World {
             q[c.law.row] += l.offset;
         }
         let limit = delassus::EXPLICIT_LIMIT;
+        // single bodies in body form, except for NSGS, whose sweeps read W's rows (math note §3.3)
+        let bodies = self.model.solver.method.resolve() != Method::Nsgs;
         let w = delassus::ContactOperator::with_scratch(
             &jac,
             &self.flex,
             &self.dofs,
             limit,
+            bodies,
             &mut scratch.assembly,
         );
         Rows { lin, jac, q, w, blocks }

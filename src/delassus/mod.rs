@@ -19,7 +19,10 @@ use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment};
 use crate::vi::Operator;
+use bodies::BodyPart;
 use sprs::CsMat;
+
+mod bodies;
 
 /// Work storage of the explicit assembly, kept across steps by the world's pipeline so that a
 /// step allocates only the CSR arrays of its W.
@@ -68,13 +71,15 @@ pub const EXPLICIT_LIMIT: usize = 20_000_000;
 
 /// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit.
 pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> {
-    ContactOperator::with_scratch(jac, flex, map, usize::MAX, &mut Scratch::default()).explicit
+    ContactOperator::with_scratch(jac, flex, map, usize::MAX, false, &mut Scratch::default()).explicit
 }
 
-/// W of one step as the VI sees it: the explicit CSR part, plus the clusters kept in operator form.
+/// W of one step as the VI sees it: the explicit CSR part, plus the clusters kept in operator
+/// form and the single bodies in body form.
 pub struct ContactOperator {
     pub explicit: CsMat<f64>,
     factored: Vec<FactoredCluster>,
+    bodies: BodyPart,
     diagonal: Vec<f64>,
 }
 
@@ -88,32 +93,40 @@ struct FactoredCluster {
 impl ContactOperator {
     /// W with every cluster explicit below `limit` numbers and in operator form above it.
     pub fn new(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
-        Self::with_scratch(jac, flex, map, limit, &mut Scratch::default())
+        Self::with_scratch(jac, flex, map, limit, false, &mut Scratch::default())
     }
 
-    /// [`Self::new`] with the work storage of earlier steps.
+    /// [`Self::new`] with the work storage of earlier steps; with `bodies`, every single body
+    /// with a closed-form K̃⁻¹ is in body form (`bodies.rs`, math note §3.3) instead of explicit.
     pub fn with_scratch(
         jac: &Jacobian,
         flex: &Flexibility,
         map: &DofMap,
         limit: usize,
+        bodies: bool,
         scratch: &mut Scratch,
     ) -> ContactOperator {
         scratch.layout(jac, flex, map);
+        let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.body_inverse(c).is_some()).collect();
         let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
             .iter()
             .zip(&scratch.col_len)
-            .map(|(&rows, &n)| rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit)
+            .zip(&body)
+            .map(|((&rows, &n), &b)| {
+                !b && rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
+            })
             .collect();
         let mut diagonal = vec![0.0; jac.rows];
         let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
-        scratch.places(jac, map, &factored_clusters);
+        let bodies = BodyPart::new(jac, flex, map, &body, &mut diagonal);
+        let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
+        scratch.places(jac, map, &outside);
         scratch.columns(jac, flex);
         let explicit = scratch.csr(jac);
         for (r, d) in diagonal.iter_mut().enumerate() {
             *d += explicit.get(r, r).copied().unwrap_or(0.0);
         }
-        ContactOperator { explicit, factored, diagonal }
+        ContactOperator { explicit, factored, bodies, diagonal }
     }
 
     /// Whether some cluster is in operator form.
@@ -129,6 +142,7 @@ impl Operator for ContactOperator {
 
     fn apply(&self, z: &[f64], out: &mut [f64]) {
         self.explicit.apply(z, out);
+        self.bodies.apply(z, out);
         let mut t = Vec::with_capacity(self.factored.iter().map(|f| f.n).max().unwrap_or(0));
         for f in &self.factored {
             t.clear();
@@ -150,7 +164,15 @@ impl Operator for ContactOperator {
     }
 
     fn as_csr(&self) -> Option<sprs::CsMatView<'_, f64>> {
-        self.factored.is_empty().then(|| self.explicit.view())
+        (self.factored.is_empty() && self.bodies.is_empty()).then(|| self.explicit.view())
+    }
+
+    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
+        if !self.factored.is_empty() || !self.explicit.abs_apply(x, out) {
+            return false;
+        }
+        self.bodies.abs_apply(x, out);
+        true
     }
 }
 
