@@ -19,6 +19,12 @@ use crate::body::Dofs;
 use crate::contact::{BodyShape, ContactGeom, ContactKey};
 use crate::geometry::Vec2;
 
+/// A contact whose bodies' largest displacements u_A + u_B under the trial increment stay below
+/// sqrt(SETTLED d0 L), L the smallest feature, keeps its rows (math note §10.1): its second-order
+/// gap change, about (u_A + u_B)²/ρ for a radius of curvature ρ >= L/100, is below the stop
+/// criterion 1e-9 d0.
+const SETTLED: f64 = 1e-11;
+
 /// The refinement's shape buffers, kept by the world's pipeline across passes and steps.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Shapes {
@@ -42,16 +48,19 @@ impl World {
         shapes: &mut Shapes,
     ) -> (Vec<Linearization>, bool) {
         let near = 0.1 * self.threshold;
+        let full = |b: usize| self.dofs.gather(dbar, b);
+        let reach = |b: usize| self.bodies[b].max_displacement(&full(b));
+        // math note §10.1: below this reach, what the refinement can change is far below its
+        // stop criterion
+        let still = (SETTLED * self.threshold * self.feature).sqrt();
         let watched: Vec<usize> = (0..contacts.len())
             .filter(|&k| {
-                let r = contacts[k].law.row;
+                let (r, a, b) = (contacts[k].law.row, contacts[k].geom.a, contacts[k].geom.b);
                 // contacts on a mesh keep their step-start rows (no mid-step refinement yet)
-                let on_mesh =
-                    [contacts[k].geom.a, contacts[k].geom.b].iter().any(|&b| self.bodies[b].mesh.is_some());
-                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh
+                let on_mesh = [a, b].iter().any(|&b| self.bodies[b].mesh.is_some());
+                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh && reach(a) + reach(b) > still
             })
             .collect();
-        let full = |b: usize| self.dofs.gather(dbar, b);
         let Shapes { mid, end, found } = shapes;
         for v in [&mut *mid, &mut *end] {
             v.clear();
