@@ -168,9 +168,21 @@ impl World {
     /// and deeper than at the trial's start (`before`: depths by key; a start overlap that does
     /// not grow, by more than 1e-3 of the limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
-    /// penetration only within it.
-    pub(super) fn new_penetration(&self, before: &[(ContactKey, f64)], threshold: f64) -> Option<Trouble> {
+    /// penetration only within it. A depth grows by at most the two bodies' largest point
+    /// motions, so when no body's motion under `dbar` reaches half of 1e-3 of the limit, no
+    /// contact can qualify and detection is skipped (math note §10.8).
+    pub(super) fn new_penetration(
+        &self,
+        before: &[(ContactKey, f64)],
+        dbar: &[f64],
+        threshold: f64,
+    ) -> Option<Trouble> {
         let limit = 0.05 * self.threshold;
+        let still = (0..self.bodies.len())
+            .all(|b| self.bodies[b].max_motion(&dbar[self.dofs.range(b)]) <= 0.5e-3 * limit);
+        if still {
+            return None;
+        }
         let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
         found.into_iter().find_map(|g| {
             let start = before.binary_search_by_key(&g.key, |e| e.0).map_or(0.0, |i| before[i].1.max(0.0));

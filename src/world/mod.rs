@@ -199,7 +199,7 @@ impl World {
         self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = self.new_penetration(&depths, threshold) {
+        if let Some(trouble) = self.new_penetration(&depths, &motion.dbar, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }
