@@ -14,6 +14,10 @@
 //! instead: `W z` adds `B_c K̃_c⁻¹ B_cᵀ z` by one pair of triangular solves per product, and only
 //! the diagonal `W_rr` is formed (one solve per row). The switch is by memory: a product with a
 //! stored block costs far less than a solve.
+//!
+//! Single bodies are in *body form* when the caller asks (every method but NSGS, whose sweeps
+//! read W's rows): applied through their closed-form K̃_c⁻¹, never assembled (`bodies.rs`, math
+//! note §3.3).
 
 use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;
