@@ -171,23 +171,7 @@ fn check_scene(
     let w = delassus::assemble(&jac, &flex, &map).to_dense();
     // the operator form (every cluster factor-backed) applied to the unit vectors, and its diagonal
     let op = delassus::ContactOperator::new(&jac, &flex, &map, 0);
-    let mut diag = vec![0.0; rows];
-    op.diagonal(&mut diag);
-    for c in 0..rows {
-        let mut e = vec![0.0; rows];
-        e[c] = 1.0;
-        let mut col = vec![0.0; rows];
-        op.apply(&e, &mut col);
-        for r in 0..rows {
-            prop_assert!(
-                (col[r] - w[[r, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())),
-                "operator W[{r},{c}] = {} vs {}",
-                col[r],
-                w[[r, c]]
-            );
-        }
-        prop_assert!((diag[c] - w[[c, c]]).abs() <= 1e-10 * w.iter().fold(1e-300f64, |m, x| m.max(x.abs())));
-    }
+    matches_w(&op, rows, |r, c| w[[r, c]], "operator")?;
     check_body_form(&jac, &flex, &map, |r, c| w[[r, c]])?;
     let kinv = k_dense.clone().lu().try_inverse().expect("K̃ invertible");
     let reference: DMatrix<f64> = &b_dense * &kinv * b_dense.transpose();
@@ -208,6 +192,31 @@ fn check_scene(
     Ok(())
 }
 
+/// `op` applied to the unit vectors, and its diagonal, against W within 1e-10 of W's largest entry.
+fn matches_w(
+    op: &delassus::ContactOperator,
+    rows: usize,
+    w: impl Fn(usize, usize) -> f64,
+    form: &str,
+) -> Result<(), TestCaseError> {
+    let scale = (0..rows)
+        .flat_map(|r| (0..rows).map(move |c| (r, c)))
+        .fold(1e-300f64, |m, (r, c)| m.max(w(r, c).abs()));
+    let mut diag = vec![0.0; rows];
+    op.diagonal(&mut diag);
+    for c in 0..rows {
+        let mut e = vec![0.0; rows];
+        e[c] = 1.0;
+        let mut col = vec![0.0; rows];
+        op.apply(&e, &mut col);
+        for (r, x) in col.iter().enumerate() {
+            prop_assert!((x - w(r, c)).abs() <= 1e-10 * scale, "{form} W[{r},{c}] = {x} vs {}", w(r, c));
+        }
+        prop_assert!((diag[c] - w(c, c)).abs() <= 1e-10 * scale, "{form} diagonal {c}");
+    }
+    Ok(())
+}
+
 /// The body form (math note §3.3: single bodies applied through K̃_c⁻¹, the rest explicit)
 /// against the assembled W: products with the unit vectors and the diagonal within 1e-10 of W's
 /// largest entry (the same sums in another order, ~1e-16 each), and its bound M >= |W| entrywise:
@@ -219,23 +228,9 @@ fn check_body_form(
     w: impl Fn(usize, usize) -> f64,
 ) -> Result<(), TestCaseError> {
     let rows = jac.rows;
-    let scale = (0..rows)
-        .flat_map(|r| (0..rows).map(move |c| (r, c)))
-        .fold(1e-300f64, |m, (r, c)| m.max(w(r, c).abs()));
     let op =
         delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
-    let mut diag = vec![0.0; rows];
-    op.diagonal(&mut diag);
-    for c in 0..rows {
-        let mut e = vec![0.0; rows];
-        e[c] = 1.0;
-        let mut col = vec![0.0; rows];
-        op.apply(&e, &mut col);
-        for (r, x) in col.iter().enumerate() {
-            prop_assert!((x - w(r, c)).abs() <= 1e-10 * scale, "body form W[{r},{c}] = {x} vs {}", w(r, c));
-        }
-        prop_assert!((diag[c] - w(c, c)).abs() <= 1e-10 * scale);
-    }
+    matches_w(&op, rows, &w, "body form")?;
     let x: Vec<f64> = (0..rows).map(|i| 1.0 + (i % 3) as f64).collect();
     let mut m = vec![0.0; rows];
     prop_assert!(op.abs_apply(&x, &mut m));
