@@ -24,7 +24,7 @@
 //! nodes of the triangle holding the anchor, weighted by its area coordinates (math note §9.2,
 //! as a point load), so a connector couples a mesh through six DOFs, never densely. A beam's end
 //! on a mesh turns with the triangle holding it (its infinitesimal rotation, a combination of the
-//! same six DOFs: [`beam_end`]).
+//! same six DOFs: [`anchor_rows`]).
 
 use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
 
@@ -388,9 +388,9 @@ impl Connector {
     }
 
     /// Beam element: `T_be = [[T_1(A1), 0], [E_1, 0], [0, T_2(A2)], [0, E_2]]` (eq. 90 corrected,
-    /// typo 14; [`beam_end`]) and the corrected 6×6 of math note §6.
+    /// typo 14; [`anchor_rows`]) and the corrected 6×6 of math note §6.
     fn beam_element(&self, b: [&Body; 2], local: Vector6<f64>) -> Element {
-        let ends = [0, 1].map(|p| beam_end(b[p], self.anchors[p], self.held[p]));
+        let ends = [0, 1].map(|p| anchor_rows(b[p], self.anchors[p], self.held[p], true));
         let g = [0, 1].map(|p| {
             let (cols, rows) = &ends[p];
             let mut g = DMatrix::zeros(6, cols.len());
@@ -418,7 +418,12 @@ fn end_map(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>
     (cols, g.rows(0, 2).into_owned())
 }
 
-/// [`end_map`], and with `turn` a third row: how the anchor turns (see [`beam_end`]).
+/// How anchor x moves, `u(x) = G d[cols]` (rows 0 and 1, [`end_map`]), and with `turn` how a
+/// beam's end there turns, `θ` (row 2, else 0): a block or particle turns by its rotation DOF r0
+/// (`E_b`, module docs); on a mesh the anchor turns with the triangle holding it, whose rotation
+/// ω = ½(∂u_y/∂x − ∂u_x/∂y) is a combination of the same three nodes' DOFs
+/// ([`MeshBody::rotation_dofs`]), so the beam's end moment reaches the mesh as a couple of nodal
+/// forces on that triangle (math note §9.2).
 fn anchor_rows(
     body: &Body,
     x: Vec2,
@@ -449,15 +454,6 @@ fn anchor_rows(
     }
     let n = cols.len();
     (cols, g.columns(0, n).into_owned())
-}
-
-/// How a beam's anchor x moves and turns, `(u(x), θ) = G d[cols]` (3 rows, [`end_map`] for the
-/// first two): a block or particle turns by its rotation DOF r0 (`E_b`, module docs); on a mesh
-/// the anchor turns with the triangle holding it, whose rotation ω = ½(∂u_y/∂x − ∂u_x/∂y) is a
-/// combination of the same three nodes' DOFs ([`MeshBody::rotation_dofs`]), so the beam's end
-/// moment reaches the mesh as a couple of nodal forces on that triangle (math note §9.2).
-fn beam_end(body: &Body, x: Vec2, held: Option<(usize, [f64; 3])>) -> (Vec<usize>, DMatrix<f64>) {
-    anchor_rows(body, x, held, true)
 }
 
 /// `T_b(x)`: 2 × ndof (paper eqs. 3, 5, 7).

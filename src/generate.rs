@@ -164,10 +164,10 @@ impl PressedBlock {
         let (w, h) = (self.width, self.height);
         let r = w / 8.0;
         let rock = Material { name: "rock".into(), density: 2500.0, young: Some(1e10), poisson: Some(0.25) };
-        let body = |name: &str, shape: Shape, fixed: bool| BodySpec {
+        let body = |name: &str, shape: Shape, model: BodyModel, fixed: bool| BodySpec {
             name: name.into(),
             shape,
-            model: if fixed { BodyModel::Rigid } else { BodyModel::Deformable },
+            model,
             material: 0,
             fixed,
             velocity: Vec2::zeros(),
@@ -182,8 +182,6 @@ impl PressedBlock {
         ];
         let block = MeshShape { mesh: self.mesh(), fixed_nodes: Vec::new() };
         let center = Vec2::new(0.5 * w, h + r);
-        let mut disk = body("disk", Shape::Disk { center, radius: r }, false);
-        disk.model = BodyModel::Rigid;
         Model {
             name: format!("{}x{} meshed block pressed by a disk", self.nx, self.ny),
             time: TimeSettings::new(self.dt, 1),
@@ -197,9 +195,9 @@ impl PressedBlock {
             materials: vec![rock],
             interfaces: vec![Interface { friction: 0.5, ..Interface::SMOOTH }],
             bodies: vec![
-                body("floor", Shape::Polygon { vertices: floor }, true),
-                body("block", Shape::Mesh(Box::new(block)), false),
-                disk,
+                body("floor", Shape::Polygon { vertices: floor }, BodyModel::Rigid, true),
+                body("block", Shape::Mesh(Box::new(block)), BodyModel::Deformable, false),
+                body("disk", Shape::Disk { center, radius: r }, BodyModel::Rigid, false),
             ],
             loads: vec![Load { body: 2, point: center, force: Vec2::new(0.0, -self.load), history: None }],
             connectors: vec![],

@@ -7,29 +7,23 @@
 /// `print!` / `println!` / `eprint!` / `eprintln!` that ignore a failed write: when the reader
 /// of the terminal output goes away (`pbdda run … | head`), the run still finishes and writes its
 /// files; the std macros would panic on the closed pipe mid-run.
-macro_rules! out {
-    ($($t:tt)*) => {{
+macro_rules! say {
+    ($stream:expr, $write:ident, $($t:tt)*) => {{
         use std::io::Write as _;
-        let _ = write!(std::io::stdout(), $($t)*);
+        let _ = $write!($stream, $($t)*);
     }};
+}
+macro_rules! out {
+    ($($t:tt)*) => { say!(std::io::stdout(), write, $($t)*) };
 }
 macro_rules! outln {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stdout(), $($t)*);
-    }};
+    ($($t:tt)*) => { say!(std::io::stdout(), writeln, $($t)*) };
 }
 macro_rules! err {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        let _ = write!(std::io::stderr(), $($t)*);
-    }};
+    ($($t:tt)*) => { say!(std::io::stderr(), write, $($t)*) };
 }
 macro_rules! errln {
-    ($($t:tt)*) => {{
-        use std::io::Write as _;
-        let _ = writeln!(std::io::stderr(), $($t)*);
-    }};
+    ($($t:tt)*) => { say!(std::io::stderr(), writeln, $($t)*) };
 }
 
 mod check;

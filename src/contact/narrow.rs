@@ -48,22 +48,21 @@ pub(crate) fn pair_contacts_with(
     tol: &Tolerances,
     out: &mut Vec<ContactGeom>,
 ) {
-    let tol = *tol;
     match (Body::of(i, shape_i), Body::of(j, shape_j)) {
-        (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, &tol, out),
+        (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, tol, out),
         (Body::Particle(p), Body::Polygon(b, holes)) | (Body::Polygon(b, holes), Body::Particle(p)) => {
             for l in std::iter::once(&b).chain(&holes) {
-                super::particle::particle_block(&p, l, &tol, out);
+                super::particle::particle_block(&p, l, tol, out);
             }
         }
         (Body::Polygon(a, a_holes), Body::Polygon(b, b_holes)) => {
             // two holes never meet: a body in a hole of the other meets it with its outer loop
-            super::block::block_block(&a, &b, &tol, out);
+            super::block::block_block(&a, &b, tol, out);
             for h in &b_holes {
-                super::block::block_block(&a, h, &tol, out);
+                super::block::block_block(&a, h, tol, out);
             }
             for h in &a_holes {
-                super::block::block_block(h, &b, &tol, out);
+                super::block::block_block(h, &b, tol, out);
             }
         }
     }

@@ -149,12 +149,16 @@ impl World {
         (self.dofs, self.memory, self.broken, self.allowance) = (s.dofs, s.memory, s.broken, s.allowance);
     }
 
-    /// The first body whose increment `dbar` moves a point farther than half the detection
+    /// Per body, the largest motion of a point under the increment `dbar`.
+    pub(super) fn motions(&self, dbar: &[f64]) -> Vec<f64> {
+        (0..self.bodies.len()).map(|b| self.bodies[b].max_motion(&dbar[self.dofs.range(b)])).collect()
+    }
+
+    /// The first body whose largest point motion (`motions`) is farther than half the detection
     /// threshold `threshold` (two bodies closing from both sides then meet within it).
-    pub(super) fn moved_too_far(&self, dbar: &[f64], threshold: f64) -> Option<Trouble> {
+    pub(super) fn moved_too_far(&self, motions: &[f64], threshold: f64) -> Option<Trouble> {
         let limit = 0.5 * threshold;
-        (0..self.bodies.len()).find_map(|b| {
-            let motion = self.bodies[b].max_motion(&dbar[self.dofs.range(b)]);
+        motions.iter().enumerate().find_map(|(b, &motion)| {
             // a NaN motion counts as too far
             (motion.is_nan() || motion > limit).then(|| Trouble::MovedTooFar {
                 body: self.bodies[b].name.clone(),
@@ -169,18 +173,16 @@ impl World {
     /// not grow, by more than 1e-3 of the limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
     /// penetration only within it. A depth grows by at most the two bodies' largest point
-    /// motions, so when no body's motion under `dbar` reaches half of 1e-3 of the limit, no
+    /// motions, so when no body's motion (`motions`) reaches half of 1e-3 of the limit, no
     /// contact can qualify and detection is skipped (math note §10.8).
     pub(super) fn new_penetration(
         &self,
         before: &[(ContactKey, f64)],
-        dbar: &[f64],
+        motions: &[f64],
         threshold: f64,
     ) -> Option<Trouble> {
         let limit = 0.05 * self.threshold;
-        let still = (0..self.bodies.len())
-            .all(|b| self.bodies[b].max_motion(&dbar[self.dofs.range(b)]) <= 0.5e-3 * limit);
-        if still {
+        if motions.iter().all(|&m| m <= 0.5e-3 * limit) {
             return None;
         }
         let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);

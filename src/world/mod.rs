@@ -186,7 +186,8 @@ impl World {
         // with `adaptive = false` a trial is never repeated: motion and penetration are warnings
         let adaptive = self.model.time.adaptive;
         let mut warnings = solved.warnings.clone();
-        if let Some(trouble) = self.moved_too_far(&motion.dbar, threshold) {
+        let motions = self.motions(&motion.dbar);
+        if let Some(trouble) = self.moved_too_far(&motions, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }
@@ -199,7 +200,7 @@ impl World {
         self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = self.new_penetration(&depths, &motion.dbar, threshold) {
+        if let Some(trouble) = self.new_penetration(&depths, &motions, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }

@@ -49,7 +49,7 @@ impl World {
     ) -> (Vec<Linearization>, bool) {
         let near = 0.1 * self.threshold;
         let full = |b: usize| self.dofs.gather(dbar, b);
-        let reach = |b: usize| self.bodies[b].max_displacement(&full(b));
+        let reach = self.motions(dbar);
         // math note §10.1: below this reach, what the refinement can change is far below its
         // stop criterion
         let still = (SETTLED * self.threshold * self.feature).sqrt();
@@ -58,7 +58,7 @@ impl World {
                 let (r, a, b) = (contacts[k].law.row, contacts[k].geom.a, contacts[k].geom.b);
                 // contacts on a mesh keep their step-start rows (no mid-step refinement yet)
                 let on_mesh = [a, b].iter().any(|&b| self.bodies[b].mesh.is_some());
-                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh && reach(a) + reach(b) > still
+                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh && reach[a] + reach[b] > still
             })
             .collect();
         let Shapes { mid, end, found } = shapes;
@@ -97,8 +97,8 @@ impl World {
                 .sum();
             // the start gap as the solver sees it, plus what the linearization misses
             let offset = c.start_gap + (e.g0 - c.geom.g0 - linear);
-            let reach = self.bodies[a].max_displacement(&da) + self.bodies[b].max_displacement(&db);
-            let change = (offset - lin[k].offset).abs() + (m.normal - lin[k].normal).norm() * reach;
+            let change =
+                (offset - lin[k].offset).abs() + (m.normal - lin[k].normal).norm() * (reach[a] + reach[b]);
             changed |= change > 1e-9 * self.threshold;
             next[k] = Linearization { normal: m.normal, anchor, offset };
         }

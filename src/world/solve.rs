@@ -70,8 +70,7 @@ impl Runner<'_> {
         let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
         if r.converged {
             world.polish(rows, q, &rule, z);
-        }
-        if !r.converged {
+        } else {
             let (step, residual, iterations) = (self.step, r.residual, r.inner_iterations);
             self.warnings.push(Warning::NotConverged { step, solve, residual, iterations });
         }
