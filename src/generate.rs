@@ -45,17 +45,9 @@ impl DiskPile {
         let height = (self.rows as f64 + 1.0) * 2.0 * r;
         let material =
             Material { name: "grain".into(), density: self.density, young: Some(1e8), poisson: Some(0.3) };
-        let wall = |name: &str, x0: f64, y0: f64, x1: f64, y1: f64| BodySpec {
-            name: name.into(),
-            shape: Shape::Polygon {
-                vertices: vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)],
-            },
-            model: BodyModel::Rigid,
-            material: 0,
-            fixed: true,
-            velocity: Vec2::zeros(),
-            angular_velocity: 0.0,
-            initial_stress: None,
+        let wall = |name: &str, x0: f64, y0: f64, x1: f64, y1: f64| {
+            let vertices = vec![Vec2::new(x0, y0), Vec2::new(x1, y0), Vec2::new(x1, y1), Vec2::new(x0, y1)];
+            BodySpec::at_rest(name, Shape::Polygon { vertices }, BodyModel::Rigid, true)
         };
         let mut bodies = vec![
             wall("floor", -r, -r, width + r, 0.0),
@@ -67,16 +59,8 @@ impl DiskPile {
             for col in 0..self.columns {
                 let x = r + 2.0 * r * col as f64 + if row % 2 == 1 { r } else { 0.0 };
                 let y = r + dy * row as f64;
-                bodies.push(BodySpec {
-                    name: format!("d{row}_{col}"),
-                    shape: Shape::Disk { center: Vec2::new(x, y), radius: r },
-                    model: self.model,
-                    material: 0,
-                    fixed: false,
-                    velocity: Vec2::zeros(),
-                    angular_velocity: 0.0,
-                    initial_stress: None,
-                });
+                let disk = Shape::Disk { center: Vec2::new(x, y), radius: r };
+                bodies.push(BodySpec::at_rest(format!("d{row}_{col}"), disk, self.model, false));
             }
         }
         Model {
@@ -164,16 +148,7 @@ impl PressedBlock {
         let (w, h) = (self.width, self.height);
         let r = w / 8.0;
         let rock = Material { name: "rock".into(), density: 2500.0, young: Some(1e10), poisson: Some(0.25) };
-        let body = |name: &str, shape: Shape, model: BodyModel, fixed: bool| BodySpec {
-            name: name.into(),
-            shape,
-            model,
-            material: 0,
-            fixed,
-            velocity: Vec2::zeros(),
-            angular_velocity: 0.0,
-            initial_stress: None,
-        };
+        let body = BodySpec::at_rest;
         let floor = vec![
             Vec2::new(-0.5, -0.5),
             Vec2::new(w + 0.5, -0.5),

@@ -216,6 +216,22 @@ pub struct BodySpec {
     pub initial_stress: Option<[f64; 3]>,
 }
 
+impl BodySpec {
+    /// A body of material 0 at rest, without initial stress (the generated scenes' bodies).
+    pub fn at_rest(name: impl Into<String>, shape: Shape, model: BodyModel, fixed: bool) -> BodySpec {
+        BodySpec {
+            name: name.into(),
+            shape,
+            model,
+            material: 0,
+            fixed,
+            velocity: Vec2::zeros(),
+            angular_velocity: 0.0,
+            initial_stress: None,
+        }
+    }
+}
+
 /// A point force, optionally scaled by a piecewise-linear factor in time.
 #[derive(Debug, Clone)]
 pub struct Load {

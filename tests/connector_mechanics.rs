@@ -19,16 +19,7 @@ fn v(x: f64, y: f64) -> Vec2 {
 }
 
 fn body(shape: Shape, model: BodyModel, fixed: bool) -> Body {
-    let spec = BodySpec {
-        name: "b".into(),
-        shape,
-        model,
-        material: 0,
-        fixed,
-        velocity: Vec2::zeros(),
-        angular_velocity: 0.0,
-        initial_stress: None,
-    };
+    let spec = BodySpec::at_rest("b", shape, model, fixed);
     let material = Material { name: "m".into(), density: 1000.0, young: Some(1.0e9), poisson: Some(0.25) };
     Body::new(&spec, &material, Plane::Stress)
 }
