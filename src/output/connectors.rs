@@ -2,11 +2,12 @@
 //! scene with connectors. A broken connector is written once more, at the step it broke (state
 //! `broken`, force 0: a broken bolt transmits nothing in the step it breaks in), then no longer.
 
-use super::csv::{Num, OutputError, truncate_after_step};
+use super::csv::{Num, OutputError};
+use super::rows::RowFile;
 use crate::connector::Connector;
 use crate::world::{StepRecord, World};
-use std::fs::{self, File};
-use std::io::{self, BufWriter, Write};
+use std::fs;
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 pub const FILE: &str = "connectors.csv";
@@ -15,7 +16,7 @@ const HEADER: &str =
 
 pub struct ConnectorWriter {
     path: PathBuf,
-    out: Option<BufWriter<File>>,
+    out: Option<RowFile>,
     every: usize,
     last_step: usize,
 }
@@ -35,9 +36,7 @@ impl ConnectorWriter {
         let out = if world.connectors.is_empty() {
             None
         } else {
-            let mut w = BufWriter::new(File::create(&path).map_err(io_err)?);
-            writeln!(w, "{HEADER}").map_err(io_err)?;
-            Some(w)
+            Some(RowFile::create(&path, HEADER).map_err(io_err)?)
         };
         let every = world.model.output.every.max(1);
         Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })
@@ -51,8 +50,7 @@ impl ConnectorWriter {
         let out = if world.connectors.is_empty() {
             None
         } else {
-            truncate_after_step(&path, step).map_err(io_err)?;
-            Some(BufWriter::new(fs::OpenOptions::new().append(true).open(&path).map_err(io_err)?))
+            Some(RowFile::reopen(&path, Some(step)).map_err(io_err)?)
         };
         let every = world.model.output.every.max(1);
         Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })
@@ -64,13 +62,11 @@ impl ConnectorWriter {
         if !(s.is_multiple_of(self.every) || s == self.last_step) {
             return Ok(());
         }
-        let mut buf = Vec::new();
-        for c in world.connectors.iter().filter(|c| !c.broken || c.broken_at == Some(s)) {
-            row(&mut buf, world, rec, c)
-                .map_err(|source| OutputError::Io { path: self.path.clone(), source })?;
-        }
         let io_err = |source| OutputError::Io { path: self.path.clone(), source };
-        out.write_all(&buf).and_then(|_| out.flush()).map_err(io_err)
+        for c in world.connectors.iter().filter(|c| !c.broken || c.broken_at == Some(s)) {
+            row(&mut out.rows, world, rec, c).map_err(io_err)?;
+        }
+        out.commit().map_err(io_err)
     }
 }
 

@@ -1,12 +1,12 @@
 //! The four CSV files of the output contract, written as the run goes. Each step's rows are
-//! formatted into one buffer per file and written with one `write_all`, in the order
-//! bodies.csv, contacts.csv, monitors.csv and steps.csv last: a killed run leaves no cut row
-//! (save one case: under SIGKILL, Linux may stop a write at a 4096-byte page boundary of the
-//! file; `pbdda resume` drops such a row), and `steps.csv` never runs ahead of the state files,
-//! so its last row names a step whose rows are all written.
+//! formatted into one buffer per file and written with one write, laid out so that a killed run
+//! leaves no cut row ([`super::rows`]), in the order bodies.csv, contacts.csv, monitors.csv and
+//! steps.csv last: `steps.csv` never runs ahead of the state files, so its last row names a
+//! step whose rows are all written.
 
+use super::rows::RowFile;
 use crate::world::{StepRecord, World};
-use std::fs::{self, File};
+use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
@@ -27,7 +27,8 @@ fn io_err(path: &Path) -> impl FnOnce(io::Error) -> OutputError + '_ {
 }
 
 /// A number as CSV text: shortest round-trip form, with an exponent for very small or very
-/// large magnitudes (`1e-28` rather than 28 zeros), and no negative zero.
+/// large magnitudes (`1e-28` rather than 28 zeros), and no negative zero (a row may be written
+/// with more digits of the same values: [`super::rows`]).
 pub struct Num(pub f64);
 
 impl std::fmt::Display for Num {
@@ -42,31 +43,14 @@ impl std::fmt::Display for Num {
     }
 }
 
-/// One output file and the rows of the current step, not yet written.
-struct Sink {
-    file: File,
-    rows: Vec<u8>,
-}
-
-impl Sink {
-    /// Writes the step's rows with one `write_all`.
-    fn commit(&mut self) -> io::Result<()> {
-        if !self.rows.is_empty() {
-            self.file.write_all(&self.rows)?;
-            self.rows.clear();
-        }
-        Ok(())
-    }
-}
-
 /// Writers for one run.
 pub struct CsvWriter {
     dir: PathBuf,
-    bodies: Sink,
-    contacts: Sink,
-    monitors: Sink,
-    steps: Sink,
-    log: Sink,
+    bodies: RowFile,
+    contacts: RowFile,
+    monitors: RowFile,
+    steps: RowFile,
+    log: RowFile,
     every: usize,
     steps_every: usize,
     last_step: usize,
@@ -110,13 +94,9 @@ impl CsvWriter {
             let path = dir.join(name);
             fs::remove_file(&path).map_err(io_err(&path))?;
         }
-        let open = |name: &str, header: &str| -> Result<Sink, OutputError> {
+        let open = |name: &str, header: &str| -> Result<RowFile, OutputError> {
             let path = dir.join(name);
-            let mut file = File::create(&path).map_err(io_err(&path))?;
-            if !header.is_empty() {
-                file.write_all(format!("{header}\n").as_bytes()).map_err(io_err(&path))?;
-            }
-            Ok(Sink { file, rows: Vec::new() })
+            RowFile::create(&path, header).map_err(io_err(&path))
         };
         let [bodies, contacts, monitors, steps] = HEADERS.map(|(name, header)| open(name, header));
         Ok(CsvWriter {
@@ -147,13 +127,9 @@ impl CsvWriter {
         last_step: usize,
         step: usize,
     ) -> Result<CsvWriter, OutputError> {
-        let open = |name: &str, cut: bool| -> Result<Sink, OutputError> {
+        let open = |name: &str, cut: bool| -> Result<RowFile, OutputError> {
             let path = dir.join(name);
-            if cut {
-                truncate_after_step(&path, step).map_err(io_err(&path))?;
-            }
-            let file = fs::OpenOptions::new().append(true).open(&path).map_err(io_err(&path))?;
-            Ok(Sink { file, rows: Vec::new() })
+            RowFile::reopen(&path, cut.then_some(step)).map_err(io_err(&path))
         };
         Ok(CsvWriter {
             dir: dir.to_path_buf(),
@@ -280,27 +256,4 @@ impl CsvWriter {
     pub fn log(&mut self, line: &str) -> Result<(), OutputError> {
         writeln!(self.log.rows, "{line}").and_then(|_| self.log.commit()).map_err(io_err(&self.dir))
     }
-}
-
-/// Cuts the CSV file at `path` after its last row of a step ≤ `step` (the header kept). Rows
-/// are in step order, so this keeps a prefix; a cut last row (no newline) goes too.
-pub(crate) fn truncate_after_step(path: &Path, step: usize) -> io::Result<()> {
-    let text = fs::read(path)?;
-    let mut keep = 0;
-    let mut first = true;
-    for line in text.split_inclusive(|&b| b == b'\n') {
-        if !line.ends_with(b"\n") {
-            break;
-        }
-        if !first {
-            let field = line.split(|&b| b == b',').next().unwrap_or_default();
-            let row_step = std::str::from_utf8(field).ok().and_then(|f| f.parse::<usize>().ok());
-            if row_step.is_none_or(|r| r > step) {
-                break;
-            }
-        }
-        first = false;
-        keep += line.len();
-    }
-    fs::OpenOptions::new().write(true).open(path)?.set_len(keep as u64)
 }

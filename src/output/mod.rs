@@ -6,4 +6,5 @@ pub mod csv;
 pub mod plot;
 pub mod render;
 pub mod results;
+pub mod rows;
 pub mod vtk;
