@@ -220,7 +220,8 @@ fn matches_w(
 /// The body form (math note §3.3: single bodies applied through K̃_c⁻¹, the rest explicit)
 /// against the assembled W: products with the unit vectors and the diagonal within 1e-10 of W's
 /// largest entry (the same sums in another order, ~1e-16 each), and its bound M >= |W| entrywise:
-/// (M x)_r >= (|W| x)_r for x >= 0, less round-off (1e-12 of the largest |W| row sum).
+/// (M x)_r >= (|W| x)_r for x >= 0, less round-off (1e-12 of the largest |W| row sum); its
+/// entries over a subset of the rows.
 fn check_body_form(
     jac: &Jacobian,
     flex: &Flexibility,
@@ -238,6 +239,22 @@ fn check_body_form(
     let largest = sums.iter().fold(1e-300f64, |a, b| a.max(*b));
     for r in 0..rows {
         prop_assert!(m[r] >= sums[r] - 1e-12 * largest, "bound row {r}: {} < {}", m[r], sums[r]);
+    }
+    // its entries in the rows and columns kept (every third row left out), summed: W's there,
+    // to the same 1e-10 (math note §4.10: MPRGP's face solves factorize them)
+    let keep: Vec<bool> = (0..rows).map(|r| r % 3 != 1).collect();
+    let mut entries = Vec::new();
+    prop_assert!(op.entries(&keep, &mut entries));
+    let mut dense = vec![0.0; rows * rows];
+    for (r, c, v) in entries {
+        prop_assert!(keep[r] && keep[c], "entry ({r}, {c}) of a row left out");
+        dense[r * rows + c] += v;
+    }
+    let scale = (0..rows * rows).fold(1e-300f64, |m, k| m.max(w(k / rows, k % rows).abs()));
+    for (k, x) in dense.iter().enumerate() {
+        let (r, c) = (k / rows, k % rows);
+        let want = if keep[r] && keep[c] { w(r, c) } else { 0.0 };
+        prop_assert!((x - want).abs() <= 1e-10 * scale, "entry ({r}, {c}) = {x} vs {want}");
     }
     Ok(())
 }

@@ -157,6 +157,21 @@ impl BodyPart {
         }
     }
 
+    /// Pushes `(r, s, s_r K̃_c⁻¹ t_sᵀ)` for every pair of segments (s_r, t_s) on one body whose
+    /// rows are both kept: W_bodies entry by entry, duplicates to be summed.
+    pub fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
+        let (mut u, mut x) = ([0.0; crate::body::MAX_DOF], [0.0; crate::body::MAX_DOF]);
+        for b in 0..self.kinv_at.len() {
+            let mine = &self.by_body[self.body_start[b]..self.body_start[b + 1]];
+            for s in mine.iter().map(|&i| &self.segs[i]).filter(|s| keep[s.row]) {
+                self.column(s, &mut u, &mut x);
+                for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| keep[t.row]) {
+                    out.push((t.row, s.row, self.dot(t, &x)));
+                }
+            }
+        }
+    }
+
     /// out += M x with M = Σ_c Σ_{segments s, t on c} |s K̃_c⁻¹ tᵀ| (rows of s, t) >= |W_bodies|
     /// entrywise: the absolute values are taken per pair of segments, so for disks (one
     /// segment per row and body) M_rs differs from |W_rs| only where rows r and s share both

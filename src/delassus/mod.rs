@@ -178,6 +178,15 @@ impl Operator for ContactOperator {
         self.bodies.abs_apply(x, out);
         true
     }
+
+    /// Not with factored clusters (their entries would take a solve per row).
+    fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
+        if !self.factored.is_empty() || !self.explicit.entries(keep, out) {
+            return false;
+        }
+        self.bodies.entries(keep, out);
+        true
+    }
 }
 
 /// Rows of B touching each cluster (a row with two segments on one cluster counts twice: an

@@ -103,6 +103,7 @@
 //! matrix its compressed storage reads the same as CSR). Symmetry and semidefiniteness are
 //! not checked (PC only needs monotonicity of G).
 
+mod face;
 mod local;
 mod measure;
 mod method;
@@ -293,6 +294,8 @@ pub struct Stats {
     pub shrinks: usize,
     /// NSGS or MPRGP runs handed over to PC by their guard (0 or 1).
     pub fallbacks: usize,
+    /// MPRGP's face solves (sparse factorizations of the free rows' block, math note §4.10).
+    pub face_solves: usize,
 }
 
 /// The solver with its workspace, reused across calls and steps: allocation only when a

@@ -10,7 +10,8 @@
 //! replaced by an expansion step (to the box boundary, then a projected gradient step of
 //! length ᾱ <= 2/||Ŵ||). On a pile of disks, whose W behaves like a discrete Laplacian
 //! over the contact network, CG needs about the square root of the iterations of a
-//! projection method (PC) or of Gauss-Seidel.
+//! projection method (PC) or of Gauss-Seidel; a slow run also gets face solves (one sparse
+//! factorization of the free rows' block, `face.rs`, math note §4.10).
 //!
 //! Vector use (`Vectors`): `y` the iterate, `wy` = Ŵy (kept up to date by the step updates
 //! and recomputed by a full product every [`REFRESH`] iterations and after each expansion),
@@ -21,6 +22,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::Status;
+use super::face::{self, Face};
 use super::measure::Measure;
 use super::pc::{Ctx, State, Vectors, clip, stop, sweep, unscale};
 use super::scaling::Rows;
@@ -143,10 +145,31 @@ pub(super) fn run<R: Rows>(
 ) -> Result<(), Status> {
     let mut since_refresh = 0;
     let mut cg = false; // p is a CG direction (else it is reset to φ)
+    let (mut next_face, mut interval) = (st.inner + face::FIRST, face::EVERY);
     loop {
         let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
         if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
             return end;
+        }
+        if st.inner >= next_face {
+            // a slow run: the face's exact minimizer (math note §4.10)
+            let taken = match face::solve(c, v, st)? {
+                Face::Taken(alpha) => Some(alpha),
+                Face::Declined => None,
+                Face::Unavailable => {
+                    next_face = usize::MAX;
+                    continue;
+                }
+            };
+            interval = match taken {
+                Some(alpha) if alpha >= face::GOOD => face::EVERY,
+                _ => interval.saturating_mul(face::BACKOFF),
+            };
+            next_face = st.inner.saturating_add(interval);
+            if taken.is_some() {
+                (since_refresh, cg) = (0, false);
+                continue;
+            }
         }
         st.inner += 1;
         let proportional = bb <= GAMMA * GAMMA * ff;

@@ -136,6 +136,8 @@ impl Scaling {
 pub(super) trait Rows: Sync + Copy {
     fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]);
     fn row(&self, i: usize, x: &[f64], prepared: f64) -> f64;
+    /// Ŵ's entries in the kept rows and columns ([`Operator::entries`]); false when W has none.
+    fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool;
 }
 
 /// Read-only view of the scaled CSR copy.
@@ -157,6 +159,17 @@ impl Csr<'_> {
 }
 
 impl Rows for Csr<'_> {
+    fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
+        for (i, r) in self.rowptr.windows(2).enumerate().filter(|(i, _)| keep[*i]) {
+            for (&j, &v) in self.cols[r[0]..r[1]].iter().zip(&self.vals[r[0]..r[1]]) {
+                if keep[j as usize] {
+                    out.push((i, j as usize, v));
+                }
+            }
+        }
+        true
+    }
+
     #[inline(always)]
     fn prepare(&self, x: &[f64], _out: &mut [f64], _tmp: &mut [f64]) {
         assert_eq!(x.len() + 1, self.rowptr.len(), "vi: vector length differs from W");
@@ -194,5 +207,17 @@ impl Rows for Scaled<'_> {
     #[inline(always)]
     fn row(&self, i: usize, _x: &[f64], prepared: f64) -> f64 {
         self.sc[i] * prepared
+    }
+
+    fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
+        let start = out.len();
+        if !self.w.entries(keep, out) {
+            out.truncate(start);
+            return false;
+        }
+        for (i, j, v) in &mut out[start..] {
+            *v *= self.sc[*i] * self.sc[*j];
+        }
+        true
     }
 }

@@ -140,3 +140,45 @@ fn mprgp_guard() {
     assert!(!rep.converged && st.status == Status::OuterLimit && st.fallbacks == 1, "{rep:?} {st:?}");
     assert_eq!(rep.outer_iterations, 2);
 }
+
+/// Face solves (math note §4.10) on the 1-D Laplacian W = tridiag(−1, 2, −1) of order 400 with
+/// q = −1 and the wide box [−1e7, 1e7]: z_i = (i + 1)(400 − i) / 2 (up to 40,100), so every row
+/// stays free and MPRGP is CG, which would need about 200 steps (q excites the 200 symmetric
+/// eigenvectors). With the explicit W, the first face solve (at iteration `face::FIRST`)
+/// factorizes the whole block (positive definite: no regularization) and lands on the
+/// minimizer with its full step, which meets the tolerance: the run ends there, after exactly
+/// `FIRST` iterations and one face solve. z to 1e-8 relative: the factorization's error is
+/// about eps · cond W = 1e-16 · 6.5e4. The matrix-free path has no entries: no face solve,
+/// and more than `FIRST` iterations to the same answer, to 1e-5 (its residual 1e-10 times
+/// cond W).
+#[test]
+fn face_solve_lands_on_the_minimizer_of_a_long_chain() {
+    let n = 400;
+    let mut dense = vec![0.0; n * n];
+    for i in 0..n {
+        dense[i * n + i] = 2.0;
+        if i + 1 < n {
+            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
+        }
+    }
+    let (explicit, wrapped) = (csr(n, &dense), MatrixFree(csr(n, &dense)));
+    let rule = FixedBounds { lo: vec![-1e7; n], hi: vec![1e7; n] };
+    for free in [false, true] {
+        let w: &dyn Operator = if free { &wrapped } else { &explicit };
+        let p = Problem { w, q: &vec![-1.0; n], blocks: &singles(n) };
+        let (mut ws, mut z) = (mprgp(), vec![0.0; n]);
+        let rep = ws.solve(&p, &rule, &mut z, &opts(1e-10, true));
+        assert!(rep.converged && ws.stats().fallbacks == 0, "{rep:?}");
+        if free {
+            assert_eq!(ws.stats().face_solves, 0);
+            assert!(rep.inner_iterations > face::FIRST, "{rep:?}");
+        } else {
+            assert_eq!((ws.stats().face_solves, rep.inner_iterations), (1, face::FIRST), "{rep:?}");
+        }
+        let rel = if free { 1e-5 } else { 1e-8 };
+        for (i, zi) in z.iter().enumerate() {
+            let want = ((i + 1) * (n - i)) as f64 / 2.0;
+            assert!((zi - want).abs() < rel * want, "free {free}: z[{i}] = {zi} vs {want}");
+        }
+    }
+}

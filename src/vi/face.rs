@@ -1,0 +1,113 @@
+//! MPRGP's face solves (math note §4.10): when a run is slow, minimize the quadratic exactly
+//! on the current face (the rows strictly inside their box free, the others held) by one
+//! sparse Cholesky factorization of the free rows' block of Ŵ, and step towards that minimizer
+//! with the box projection, keeping the step only if it lowers the objective.
+//!
+//! On a pile of disks W behaves like a discrete Laplacian over the contact network, and its
+//! condition number grows with the pile's height squared: CG on the face needs hundreds or
+//! thousands of iterations where one factorization (the face block is as sparse as W, a
+//! planar graph) gives the face's minimizer at once. Factorizations are not reused: the face
+//! changes between solves, so each does its own symbolic analysis.
+
+use super::Status;
+use super::pc::{Ctx, State, Vectors, clip, sweep};
+use super::scaling::Rows;
+use crate::cluster::SparseFactor;
+
+/// The first face solve of a run after this many of its iterations (warm-started steps of a
+/// resting pile converge in about 5), then one every [`EVERY`] iterations while they go at
+/// least [`GOOD`] of the way to the face's minimizer; after a shorter step or a declined
+/// solve, the interval grows [`BACKOFF`]-fold (the face was far from the final one).
+pub(super) const FIRST: usize = 20;
+pub(super) const EVERY: usize = 10;
+pub(super) const GOOD: f64 = 0.25;
+pub(super) const BACKOFF: usize = 4;
+/// Added to the face block's diagonal (Ŵ's is 1) when the block alone does not factorize: a
+/// hyperstatic face block is singular, and this picks the nearly minimum-norm minimizer while
+/// keeping the factorization stable.
+const EPS: f64 = 1e-9;
+/// Problems with fewer rows get no face solves: their iterations cost next to nothing, and
+/// the small problems with extreme conditioning (a body 1e12 times heavier than the one under
+/// it, math note §4.9) are polished from MPRGP's own iterate (§10.10, up to 96 rows), which a
+/// face step, exact only to eps · cond W, leaves farther from the statics (measured: 5.6e-6
+/// relative instead of 3.3e-7 on the 1e12 stack of `tests/mass_ratio.rs`).
+pub(super) const MIN_ROWS: usize = 128;
+/// Steps tried along the projected path: α = 1, 1/4, 1/16, ...
+const TRIALS: usize = 6;
+
+/// What a face solve did.
+pub(super) enum Face {
+    /// The iterate moved (lower objective) by this fraction α of the way to the face's
+    /// minimizer; `v.wy` is fresh.
+    Taken(f64),
+    /// No trial lowered the objective, or the factorization failed: the iterate is unchanged.
+    Declined,
+    /// Ŵ has no entries to factorize (factored clusters), or the problem is smaller than
+    /// [`MIN_ROWS`]: no face solves in this run.
+    Unavailable,
+}
+
+/// ½ yᵀŴy + q̂ᵀy with a fresh `wy`.
+fn objective<R: Rows>(c: &Ctx<R>, v: &Vectors) -> f64 {
+    v.y.iter().zip(&v.wy).zip(c.qs).map(|((y, wy), q)| y * (0.5 * wy + q)).sum()
+}
+
+/// One face solve from the current iterate (`v.wy` fresh on entry).
+pub(super) fn solve<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> Result<Face, Status> {
+    let n = v.y.len();
+    if n < MIN_ROWS {
+        return Ok(Face::Unavailable);
+    }
+    let keep: Vec<bool> = (0..n).map(|i| v.ylo[i] < v.y[i] && v.y[i] < v.yhi[i]).collect();
+    let free: Vec<usize> = (0..n).filter(|&i| keep[i]).collect();
+    if free.is_empty() {
+        return Ok(Face::Declined);
+    }
+    let mut entries = Vec::new();
+    if !c.rows.entries(&keep, &mut entries) {
+        return Ok(Face::Unavailable);
+    }
+    st.stats.face_solves += 1;
+    let mut local = vec![usize::MAX; n];
+    for (a, &i) in free.iter().enumerate() {
+        local[i] = a;
+    }
+    let mut lower: Vec<(usize, usize, f64)> =
+        entries.iter().map(|&(i, j, w)| (local[i], local[j], w)).filter(|&(a, b, _)| a >= b).collect();
+    // Ŵ_FF itself when it is positive definite (an ill-conditioned face, as under a heavy body
+    // on a light one, needs it unperturbed), else Ŵ_FF + EPS I (a hyperstatic face is singular)
+    let diagonal = lower.len();
+    lower.extend((0..free.len()).map(|a| (a, a, 0.0)));
+    let mut factor = SparseFactor::new(free.len());
+    if factor.factorize(&lower).is_err() {
+        lower[diagonal..].iter_mut().for_each(|e| e.2 = EPS);
+        if factor.factorize(&lower).is_err() {
+            return Ok(Face::Declined);
+        }
+    }
+    // Newton step on the face: Ŵ_FF d = −g_F
+    let mut d: Vec<f64> = free.iter().map(|&i| -(c.qs[i] + v.wy[i])).collect();
+    factor.solve_in_place(&mut d);
+    if !d.iter().all(|x| x.is_finite()) {
+        return Ok(Face::Declined);
+    }
+    let f0 = objective(c, v);
+    let y0: Vec<f64> = free.iter().map(|&i| v.y[i]).collect();
+    let mut alpha = 1.0;
+    for _ in 0..TRIALS {
+        for ((&i, y), d) in free.iter().zip(&y0).zip(&d) {
+            v.y[i] = clip(y + alpha * d, v.ylo[i], v.yhi[i]);
+        }
+        if sweep(c, v, st) && objective(c, v) < f0 {
+            return Ok(Face::Taken(alpha));
+        }
+        alpha *= 0.25;
+    }
+    for (&i, y) in free.iter().zip(&y0) {
+        v.y[i] = *y;
+    }
+    if !sweep(c, v, st) {
+        return Err(Status::NonFinite);
+    }
+    Ok(Face::Declined)
+}
