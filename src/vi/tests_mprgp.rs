@@ -62,14 +62,7 @@ fn mprgp_closed_forms() {
 #[test]
 fn mprgp_is_conjugate_gradients_on_free_rows() {
     let n = 20;
-    let mut dense = vec![0.0; n * n];
-    for i in 0..n {
-        dense[i * n + i] = 2.0;
-        if i + 1 < n {
-            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
-        }
-    }
-    let w = csr(n, &dense);
+    let w = laplacian(n);
     let rule = FixedBounds { lo: vec![-1e3; n], hi: vec![1e3; n] };
     let p = Problem { w: &w, q: &vec![-1.0; n], blocks: &singles(n) };
     let mut z = vec![0.0; n];
@@ -154,14 +147,7 @@ fn mprgp_guard() {
 #[test]
 fn face_solve_lands_on_the_minimizer_of_a_long_chain() {
     let n = 400;
-    let mut dense = vec![0.0; n * n];
-    for i in 0..n {
-        dense[i * n + i] = 2.0;
-        if i + 1 < n {
-            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
-        }
-    }
-    let (explicit, wrapped) = (csr(n, &dense), MatrixFree(csr(n, &dense)));
+    let (explicit, wrapped) = (laplacian(n), MatrixFree(laplacian(n)));
     let rule = FixedBounds { lo: vec![-1e7; n], hi: vec![1e7; n] };
     for free in [false, true] {
         let w: &dyn Operator = if free { &wrapped } else { &explicit };
@@ -181,4 +167,16 @@ fn face_solve_lands_on_the_minimizer_of_a_long_chain() {
             assert!((zi - want).abs() < rel * want, "free {free}: z[{i}] = {zi} vs {want}");
         }
     }
+}
+
+/// The 1-D Laplacian tridiag(−1, 2, −1) of order n.
+fn laplacian(n: usize) -> sprs::CsMat<f64> {
+    let mut dense = vec![0.0; n * n];
+    for i in 0..n {
+        dense[i * n + i] = 2.0;
+        if i + 1 < n {
+            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
+        }
+    }
+    csr(n, &dense)
 }
