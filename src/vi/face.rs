@@ -52,8 +52,14 @@ fn objective<R: Rows>(c: &Ctx<R>, v: &Vectors) -> f64 {
     v.y.iter().zip(&v.wy).zip(c.qs).map(|((y, wy), q)| y * (0.5 * wy + q)).sum()
 }
 
-/// One face solve from the current iterate (`v.wy` fresh on entry).
-pub(super) fn solve<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> Result<Face, Status> {
+/// One face solve from the current iterate (`v.wy` fresh on entry); `regularize`: the run's
+/// faces need EPS (set here when one does).
+pub(super) fn solve<R: Rows>(
+    c: &Ctx<R>,
+    v: &mut Vectors,
+    st: &mut State,
+    regularize: &mut bool,
+) -> Result<Face, Status> {
     let n = v.y.len();
     if n < MIN_ROWS {
         return Ok(Face::Unavailable);
@@ -75,11 +81,18 @@ pub(super) fn solve<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> Res
     let mut lower: Vec<(usize, usize, f64)> =
         entries.iter().map(|&(i, j, w)| (local[i], local[j], w)).filter(|&(a, b, _)| a >= b).collect();
     // Ŵ_FF itself when it is positive definite (an ill-conditioned face, as under a heavy body
-    // on a light one, needs it unperturbed), else Ŵ_FF + EPS I (a hyperstatic face is singular)
-    let diagonal = lower.len();
-    lower.extend((0..free.len()).map(|a| (a, a, 0.0)));
+    // on a light one, needs it unperturbed), else Ŵ_FF + EPS I (a hyperstatic face is
+    // singular); once a run's face needed EPS, its later faces (mostly the same rows) get it
+    // at once instead of a failed factorization first (40 % of a face solve on the piles)
+    let eps = if *regularize { EPS } else { 0.0 };
+    lower.extend((0..free.len()).map(|a| (a, a, eps)));
     let mut factor = SparseFactor::new(free.len());
     if factor.factorize(&lower).is_err() {
+        if *regularize {
+            return Ok(Face::Declined);
+        }
+        *regularize = true;
+        let diagonal = lower.len() - free.len();
         lower[diagonal..].iter_mut().for_each(|e| e.2 = EPS);
         if factor.factorize(&lower).is_err() {
             return Ok(Face::Declined);

@@ -145,7 +145,7 @@ pub(super) fn run<R: Rows>(
 ) -> Result<(), Status> {
     let mut since_refresh = 0;
     let mut cg = false; // p is a CG direction (else it is reset to φ)
-    let (mut next_face, mut interval) = (st.inner + face::FIRST, face::EVERY);
+    let (mut next_face, mut interval, mut regularize) = (st.inner + face::FIRST, face::EVERY, false);
     loop {
         let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
         if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
@@ -153,20 +153,14 @@ pub(super) fn run<R: Rows>(
         }
         if st.inner >= next_face {
             // a slow run: the face's exact minimizer (math note §4.10)
-            let taken = match face::solve(c, v, st)? {
-                Face::Taken(alpha) => Some(alpha),
-                Face::Declined => None,
-                Face::Unavailable => {
-                    next_face = usize::MAX;
-                    continue;
-                }
-            };
-            interval = match taken {
-                Some(alpha) if alpha >= face::GOOD => face::EVERY,
-                _ => interval.saturating_mul(face::BACKOFF),
+            let outcome = face::solve(c, v, st, &mut regularize)?;
+            interval = match outcome {
+                Face::Unavailable => usize::MAX,
+                Face::Taken(alpha) if alpha >= face::GOOD => face::EVERY,
+                Face::Taken(_) | Face::Declined => interval.saturating_mul(face::BACKOFF),
             };
             next_face = st.inner.saturating_add(interval);
-            if taken.is_some() {
+            if let Face::Taken(_) = outcome {
                 (since_refresh, cg) = (0, false);
                 continue;
             }
