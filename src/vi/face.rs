@@ -26,11 +26,14 @@ pub(super) const BACKOFF: usize = 4;
 /// hyperstatic face block is singular, and this picks the nearly minimum-norm minimizer while
 /// keeping the factorization stable.
 const EPS: f64 = 1e-9;
-/// Problems with fewer rows get no face solves: their iterations cost next to nothing, and
-/// the small problems with extreme conditioning (a body 1e12 times heavier than the one under
-/// it, math note §4.9) are polished from MPRGP's own iterate (§10.10, up to 96 rows), which a
-/// face step, exact only to eps · cond W, leaves farther from the statics (measured: 5.6e-6
-/// relative instead of 3.3e-7 on the 1e12 stack of `tests/mass_ratio.rs`).
+/// Problems with fewer rows get no face solves. The reason is a limit of the face step, not
+/// of small problems: on the 1e12 heavy-on-light stack of `tests/mass_ratio.rs` (8 rows, 6
+/// DOFs) Ŵ_FF's smallest range eigenvalues (~1e-12) cannot be told from its null space (the
+/// self-stress of the hyperstatic rows), so the factorization succeeds and the step adds a
+/// self-stress that neither the objective nor the exact gaps of §10.10's polish see (they
+/// measured 1e-28 m after it): corner forces 5.6e-6 off statics instead of 3.3e-7. MPRGP's
+/// own steps move along gradients, which lie in Ŵ's range. Piles are far from that ratio;
+/// a large problem with such a ratio would meet the same limit (math note §4.10).
 pub(super) const MIN_ROWS: usize = 128;
 /// Steps tried along the projected path: α = 1, 1/4, 1/16, ...
 const TRIALS: usize = 6;
@@ -69,8 +72,8 @@ pub(super) fn solve<R: Rows>(
     if free.is_empty() {
         return Ok(Face::Declined);
     }
-    let mut entries = Vec::new();
-    if !c.rows.entries(&keep, &mut entries) {
+    let mut lower = Vec::new();
+    if !c.rows.entries(&keep, &mut lower) {
         return Ok(Face::Unavailable);
     }
     st.stats.face_solves += 1;
@@ -78,8 +81,11 @@ pub(super) fn solve<R: Rows>(
     for (a, &i) in free.iter().enumerate() {
         local[i] = a;
     }
-    let mut lower: Vec<(usize, usize, f64)> =
-        entries.iter().map(|&(i, j, w)| (local[i], local[j], w)).filter(|&(a, b, _)| a >= b).collect();
+    // the lower triangle of Ŵ_FF in face numbering
+    lower.retain_mut(|e| {
+        (e.0, e.1) = (local[e.0], local[e.1]);
+        e.0 >= e.1
+    });
     // Ŵ_FF itself when it is positive definite (an ill-conditioned face, as under a heavy body
     // on a light one, needs it unperturbed), else Ŵ_FF + EPS I (a hyperstatic face is
     // singular); once a run's face needed EPS, its later faces (mostly the same rows) get it
