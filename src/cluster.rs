@@ -18,7 +18,7 @@
 //! assert!((4.0 * x[0] + x[1] - 1.0).abs() < 1e-14 && (x[0] + 3.0 * x[1] - 2.0).abs() < 1e-14);
 //! ```
 
-use crate::body::{Body, BodyMatrix, Dofs};
+use crate::body::{Body, BodyMatrix};
 use crate::dofs::DofMap;
 use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
@@ -67,10 +67,17 @@ enum Formed {
     Rotation(f64),
 }
 
+// One per cluster, behind an `Arc`: most clusters are single bodies, and boxing their matrices
+// would add an indirection to every body solve for the few sparse clusters' sake.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub(crate) enum Factor {
-    /// K⁻¹ of one body, padded to 6×6 (closed-form reference path).
-    Body(BodyMatrix),
+    /// K⁻¹ of one body and a square root R of it (R Rᵀ = K⁻¹), padded to 6×6 (closed-form
+    /// reference path).
+    Body {
+        inverse: BodyMatrix,
+        root: BodyMatrix,
+    },
     Sparse(SparseFactor),
 }
 
@@ -145,7 +152,8 @@ impl Flexibility {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
                 let own = couplings.iter().filter(|cp| cp.a == b && cp.b == b);
-                Factor::Body(body_flexibility(&bodies[b], own, dt, damping).ok_or_else(failed)?)
+                let (inverse, root) = body_flexibility(&bodies[b], own, dt, damping).ok_or_else(failed)?;
+                Factor::Body { inverse, root }
             } else {
                 let triplets = cluster_triplets(map, c, bodies, couplings, dt, damping);
                 // reuse the symbolic analysis of the last factor of this cluster
@@ -193,7 +201,16 @@ impl Flexibility {
     /// K̃⁻¹ of cluster `c` when it is a single body's closed form (padded to 6×6).
     pub fn body_inverse(&self, c: usize) -> Option<&BodyMatrix> {
         match self.factors[c].as_ref() {
-            Factor::Body(kinv) => Some(kinv),
+            Factor::Body { inverse, .. } => Some(inverse),
+            Factor::Sparse(_) => None,
+        }
+    }
+
+    /// A square root R of K̃_c⁻¹ (R Rᵀ = K̃_c⁻¹; upper triangular, padded to 6×6) when cluster `c`
+    /// is a single body's closed form: W's body form works with B R (`delassus/bodies.rs`).
+    pub fn body_root(&self, c: usize) -> Option<&BodyMatrix> {
+        match self.factors[c].as_ref() {
+            Factor::Body { root, .. } => Some(root),
             Factor::Sparse(_) => None,
         }
     }
@@ -218,11 +235,16 @@ impl ClusterSolver {
 impl Factor {
     fn solve(&self, v: &mut [f64]) {
         match self {
-            Factor::Body(kinv) => {
-                let mut d = Dofs::zeros();
-                d.as_mut_slice()[..v.len()].copy_from_slice(v);
-                let x = kinv * d;
-                v.copy_from_slice(&x.as_slice()[..v.len()]);
+            Factor::Body { inverse, .. } => {
+                // over the body's own n DOFs, not the padded 6×6 (column by column, as a product)
+                let n = v.len();
+                let mut x = [0.0; crate::body::MAX_DOF];
+                for (j, &vj) in v.iter().enumerate() {
+                    for (i, xi) in x[..n].iter_mut().enumerate() {
+                        *xi += inverse[(i, j)] * vj;
+                    }
+                }
+                v.copy_from_slice(&x[..n]);
             }
             Factor::Sparse(f) => f.solve_in_place(v),
         }
@@ -230,14 +252,15 @@ impl Factor {
 }
 
 /// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling
-/// blocks (connectors to fixed bodies), padded to 6×6; `None` when K is not positive definite
-/// (a body without mass).
+/// blocks (connectors to fixed bodies), and its square root R = L⁻ᵀ (L K's Cholesky factor, so
+/// R Rᵀ = (L Lᵀ)⁻¹ = K⁻¹), both padded to 6×6; `None` when K is not positive definite (a body
+/// without mass).
 fn body_flexibility<'a>(
     body: &Body,
     own: impl Iterator<Item = &'a CouplingBlock>,
     dt: f64,
     damping: f64,
-) -> Option<BodyMatrix> {
+) -> Option<(BodyMatrix, BodyMatrix)> {
     let n = body.ndof();
     let mut k = body.step_matrix(dt, damping);
     for cp in own {
@@ -247,13 +270,16 @@ fn body_flexibility<'a>(
             }
         }
     }
-    let mut out = BodyMatrix::zeros();
-    let inv = k.view((0, 0), (n, n)).clone_owned().cholesky()?.inverse();
-    if !inv.iter().all(|x| x.is_finite()) {
+    let chol = k.view((0, 0), (n, n)).clone_owned().cholesky()?;
+    let inv = chol.inverse();
+    let root = chol.l().solve_lower_triangular(&nalgebra::DMatrix::identity(n, n))?.transpose();
+    if !inv.iter().chain(root.iter()).all(|x| x.is_finite()) {
         return None;
     }
-    out.view_mut((0, 0), (n, n)).copy_from(&inv);
-    Some(out)
+    let (mut inverse, mut padded) = (BodyMatrix::zeros(), BodyMatrix::zeros());
+    inverse.view_mut((0, 0), (n, n)).copy_from(&inv);
+    padded.view_mut((0, 0), (n, n)).copy_from(&root);
+    Some((inverse, padded))
 }
 
 impl Formed {

@@ -13,7 +13,7 @@
 //! worst case and far better in practice; symmetry to 1e-12 (round-off of 3-term sums); the
 //! smallest eigenvalue may be negative only by round-off, 1e-10 of the largest.
 
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use pbdda::body::Body;
 use pbdda::cluster::{CouplingBlock, Flexibility};
 use pbdda::connector::Connector;
@@ -219,9 +219,10 @@ fn matches_w(
 
 /// The body form (math note §3.3: single bodies applied through K̃_c⁻¹, the rest explicit)
 /// against the assembled W: products with the unit vectors and the diagonal within 1e-10 of W's
-/// largest entry (the same sums in another order, ~1e-16 each), and its bound M >= |W| entrywise:
-/// (M x)_r >= (|W| x)_r for x >= 0, less round-off (1e-12 of the largest |W| row sum); its
-/// entries over a subset of the rows.
+/// largest entry (the same sums in another order, ~1e-16 each); its row bounds of Ŵ = S W S
+/// (S = diag(W)^{-1/2}, the solver's scaling): xᵀ Ŵ x <= Σ_r out_r x_r² for random x, and so
+/// ‖Ŵ‖ <= max_r out_r, less round-off (1e-10 of Ŵ's unit diagonal scale); its entries over a
+/// subset of the rows.
 fn check_body_form(
     jac: &Jacobian,
     flex: &Flexibility,
@@ -232,14 +233,22 @@ fn check_body_form(
     let op =
         delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
     matches_w(&op, rows, &w, "body form")?;
-    let x: Vec<f64> = (0..rows).map(|i| 1.0 + (i % 3) as f64).collect();
-    let mut m = vec![0.0; rows];
-    prop_assert!(op.abs_apply(&x, &mut m));
-    let sums: Vec<f64> = (0..rows).map(|r| (0..rows).map(|c| w(r, c).abs() * x[c]).sum()).collect();
-    let largest = sums.iter().fold(1e-300f64, |a, b| a.max(*b));
-    for r in 0..rows {
-        prop_assert!(m[r] >= sums[r] - 1e-12 * largest, "bound row {r}: {} < {}", m[r], sums[r]);
+    let sc: Vec<f64> = (0..rows).map(|r| if w(r, r) > 0.0 { 1.0 / w(r, r).sqrt() } else { 1.0 }).collect();
+    let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w(r, c) * sc[c]);
+    let mut bound = vec![0.0; rows];
+    prop_assert!(op.row_bounds(&sc, &mut bound));
+    let tol = 1e-10 * hat.amax().max(1.0);
+    for k in 0..5 {
+        let x = DVector::from_fn(rows, |r, _| ((r * 7 + k * 13) % 11) as f64 - 5.0);
+        let quad = x.dot(&(&hat * &x));
+        let weighted: f64 = (0..rows).map(|r| bound[r] * x[r] * x[r]).sum();
+        prop_assert!(quad <= weighted + tol * x.norm_squared(), "xᵀŴx {quad} > Σ out x² {weighted}");
     }
+    let largest = SymmetricEigen::new(hat).eigenvalues.max();
+    prop_assert!(
+        largest <= bound.iter().fold(0.0f64, |a, b| a.max(*b)) + tol,
+        "‖Ŵ‖ {largest} above the bound"
+    );
     // its entries in the rows and columns kept (every third row left out), summed: W's there,
     // to the same 1e-10 (math note §4.10: MPRGP's face solves factorize them)
     let keep: Vec<bool> = (0..rows).map(|r| r % 3 != 1).collect();
@@ -259,13 +268,8 @@ fn check_body_form(
     Ok(())
 }
 
-/// On disks touching at their rims (contact points on both rims, normals along the centre line) no
-/// two rows share both bodies with nonzero cross terms per body, so the body form's bound M equals
-/// |W| and MPRGP's step length is Gershgorin's bound of the explicit W (math note §3.3): equal to
-/// 1e-12 relative (round-off of the two sums). Seven rigid disks in a hexagonal cluster, every
-/// touching pair a contact.
-#[test]
-fn body_form_bound_is_gershgorin_on_touching_disks() {
+/// Seven rigid disks in a hexagonal cluster, every touching pair a contact (6 spokes, 6 rims).
+fn hexagon(fixed_rim: bool) -> (Vec<Body>, DofMap, Flexibility, Jacobian) {
     let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
     let mut centres = vec![Vec2::zeros()];
     centres.extend((0..6).map(|k| {
@@ -273,7 +277,9 @@ fn body_form_bound_is_gershgorin_on_touching_disks() {
         Vec2::new(a.cos(), a.sin())
     }));
     let bodies: Vec<Body> = (centres.iter().enumerate())
-        .map(|(i, c)| Body::new(&spec(i, 0, c.x, c.y, 0.5, false, false), &material, Plane::Stress))
+        .map(|(i, c)| {
+            Body::new(&spec(i, 0, c.x, c.y, 0.5, fixed_rim && i > 0, false), &material, Plane::Stress)
+        })
         .collect();
     let map = DofMap::new(&bodies, &[]);
     let mut flex = Flexibility::new(false);
@@ -293,30 +299,61 @@ fn body_form_bound_is_gershgorin_on_touching_disks() {
         let n = (centres[a] - centres[b]).normalize();
         let x = centres[b] + 0.5 * n;
         for (body, sign) in [(a, 1.0), (b, -1.0)] {
+            let Some(cluster) = map.cluster_of(body) else { continue };
             let r = map.range(body);
             for (row, dir) in [(2 * k, n), (2 * k + 1, cw(n))] {
-                jac.push(
-                    row,
-                    map.cluster_of(body).unwrap(),
-                    r.start,
-                    r.len(),
-                    bodies[body].shape_row(x, dir) * sign,
-                );
+                jac.push(row, cluster, r.start, r.len(), bodies[body].shape_row(x, dir) * sign);
             }
         }
     }
+    (bodies, map, flex, jac)
+}
+
+/// The largest eigenvalue of Ŵ = S W S (S = diag(W)^{-1/2} where W_rr > 0) and the body form's
+/// row bounds of it.
+fn scaled_norm_and_bound(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (f64, Vec<f64>) {
+    let w = delassus::assemble(jac, flex, map).to_dense();
+    let rows = jac.rows;
+    let sc: Vec<f64> =
+        (0..rows).map(|r| if w[[r, r]] > 0.0 { 1.0 / w[[r, r]].sqrt() } else { 1.0 }).collect();
+    let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w[[r, c]] * sc[c]);
+    let op =
+        delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
+    let mut bound = vec![0.0; rows];
+    assert!(op.row_bounds(&sc, &mut bound));
+    (SymmetricEigen::new(hat).eigenvalues.max(), bound)
+}
+
+/// MPRGP's step length comes from the body form's row bounds (math note §3.3, §4.8). For one free
+/// body the bound is exact: every row touches the central disk only (its six neighbours fixed),
+/// so Ŵ is that body's block and the bound is its largest eigenvalue, computed in closed form
+/// for 3 DOFs: equal to the dense eigenvalue of the assembled Ŵ to 1e-12 (round-off of the two
+/// eigen-solvers on a matrix with unit diagonal).
+#[test]
+fn body_form_bound_is_the_norm_of_one_body() {
+    let (_, map, flex, jac) = hexagon(true);
+    let (norm, bound) = scaled_norm_and_bound(&map, &flex, &jac);
+    let (spokes, rims) = (&bound[..12], &bound[12..]);
+    assert!(spokes.iter().all(|b| (b - norm).abs() <= 1e-12 * norm), "bounds {spokes:?} vs ‖Ŵ‖ {norm}");
+    assert!(rims.iter().all(|&b| b == 0.0), "rows between fixed disks carry no bound: {rims:?}");
+}
+
+/// All seven disks free: each row's bound is the sum of its two bodies' block eigenvalues, at
+/// least ‖Ŵ‖ (the rows of the busiest bodies reach it) and below Gershgorin's bound of the same
+/// Ŵ, which the body form used before (its per-pair absolute values add up sign-cancelling terms).
+#[test]
+fn body_form_bound_lies_between_the_norm_and_gershgorin() {
+    let (_, map, flex, jac) = hexagon(false);
+    let (norm, bound) = scaled_norm_and_bound(&map, &flex, &jac);
     let w = delassus::assemble(&jac, &flex, &map).to_dense();
     let rows = jac.rows;
-    let sc: Vec<f64> = (0..rows).map(|i| 1.0 / w[[i, i]].sqrt()).collect();
+    let sc: Vec<f64> = (0..rows).map(|r| 1.0 / w[[r, r]].sqrt()).collect();
     let gershgorin = (0..rows)
         .map(|r| (0..rows).map(|c| sc[r] * w[[r, c]].abs() * sc[c]).sum::<f64>())
         .fold(0.0, f64::max);
-    let op =
-        delassus::ContactOperator::with_scratch(&jac, &flex, &map, usize::MAX, true, &mut Default::default());
-    let mut m = vec![0.0; rows];
-    assert!(op.abs_apply(&sc, &mut m));
-    let bound = (0..rows).map(|r| sc[r] * m[r]).fold(0.0, f64::max);
-    assert!((bound - gershgorin).abs() <= 1e-12 * gershgorin, "bound {bound} vs Gershgorin {gershgorin}");
+    let top = bound.iter().fold(0.0f64, |a, b| a.max(*b));
+    assert!(norm <= top * (1.0 + 1e-12), "‖Ŵ‖ {norm} above the bound {top}");
+    assert!(top < gershgorin, "bound {top} not below Gershgorin's {gershgorin}");
 }
 
 proptest! {

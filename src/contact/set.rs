@@ -16,8 +16,60 @@ pub struct Memory {
     pub bonded: bool,
 }
 
-/// Memory of all contacts of the last step, by persistent key.
-pub type ContactMemory = HashMap<ContactKey, Memory>;
+/// Memory of all contacts of the last step, sorted by persistent key. Contacts are detected
+/// sorted by key, so the memory is built without sorting and read in detection order by a
+/// merge ([`Lookup`]): no hashing in the step.
+#[derive(Debug, Clone, Default)]
+pub struct ContactMemory {
+    entries: Vec<(ContactKey, Memory)>,
+}
+
+impl ContactMemory {
+    pub fn new() -> ContactMemory {
+        ContactMemory::default()
+    }
+
+    /// The memory of `entries` (sorted here if they are not).
+    pub fn from_entries(mut entries: Vec<(ContactKey, Memory)>) -> ContactMemory {
+        if !entries.is_sorted_by_key(|e| e.0) {
+            entries.sort_by_key(|e| e.0);
+        }
+        entries.dedup_by_key(|e| e.0);
+        ContactMemory { entries }
+    }
+
+    /// Sets the memory of `key`.
+    pub fn insert(&mut self, key: ContactKey, memory: Memory) {
+        match self.entries.binary_search_by_key(&key, |e| e.0) {
+            Ok(i) => self.entries[i].1 = memory,
+            Err(i) => self.entries.insert(i, (key, memory)),
+        }
+    }
+
+    /// A reader for keys asked in ascending order.
+    pub fn lookup(&self) -> Lookup<'_> {
+        Lookup { entries: &self.entries, at: 0 }
+    }
+}
+
+/// Reads a [`ContactMemory`] by a merge with ascending keys; a key at or below the entry the merge
+/// last passed is found by bisection instead.
+pub struct Lookup<'a> {
+    entries: &'a [(ContactKey, Memory)],
+    at: usize,
+}
+
+impl Lookup<'_> {
+    pub fn get(&mut self, key: &ContactKey) -> Option<Memory> {
+        if self.at > 0 && self.entries[self.at - 1].0 >= *key {
+            self.at = self.entries.partition_point(|e| e.0 < *key);
+        }
+        while self.at < self.entries.len() && self.entries[self.at].0 < *key {
+            self.at += 1;
+        }
+        (self.entries.get(self.at).filter(|e| e.0 == *key)).map(|e| e.1)
+    }
+}
 
 /// The interface law for a pair of materials: the entry naming the pair, else the default
 /// entry (no `materials`), else a smooth interface.
@@ -48,4 +100,48 @@ pub fn joint_partners(contacts: &[ContactGeom]) -> Vec<Option<usize>> {
         }
     }
     partner
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::Feature;
+
+    fn key(a: u32, b: u32) -> ContactKey {
+        ContactKey { a, fa: Feature::Outer, b, fb: Feature::Vertex(0) }
+    }
+
+    /// What was stored under (a, b): a normal force of 10 a + b.
+    fn remembered(a: u32, b: u32) -> Memory {
+        Memory { force: [(10 * a + b) as f64, 0.0, 0.0], closed: true, bonded: false }
+    }
+
+    /// The memory built from unsorted entries, read by merge (ascending keys), by bisection (keys
+    /// asked in descending order) and after inserts: every key gets exactly what was stored under
+    /// it, a key never stored gets nothing.
+    #[test]
+    fn lookup_finds_each_key_in_any_order() {
+        let mut stored = vec![(3, 1), (0, 2), (1, 5), (2, 2)];
+        let memory =
+            ContactMemory::from_entries(stored.iter().map(|&(a, b)| (key(a, b), remembered(a, b))).collect());
+        let asked = [(0, 1), (0, 2), (1, 5), (2, 0), (2, 2), (3, 1), (4, 0)];
+        let want =
+            |stored: &[(u32, u32)], (a, b): (u32, u32)| stored.contains(&(a, b)).then(|| remembered(a, b));
+        let mut lookup = memory.lookup();
+        for &k in &asked {
+            assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "ascending {k:?}");
+        }
+        let mut lookup = memory.lookup();
+        for &k in asked.iter().rev() {
+            assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "descending {k:?}");
+        }
+        let mut memory = memory;
+        memory.insert(key(2, 0), remembered(2, 0));
+        memory.insert(key(3, 1), remembered(3, 1));
+        stored.push((2, 0));
+        let mut lookup = memory.lookup();
+        for &k in &asked {
+            assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "after inserts {k:?}");
+        }
+    }
 }

@@ -4,16 +4,23 @@
 //! product `v_c = K̃_c⁻¹ u_c` over the body's n_c DOFs, and each row's `B_r|c · v_c`: about
 //! 2 n_c multiply-adds per row and body plus n_c² per body, against the ~20 nonzeros per row of
 //! an assembled W on a pile of disks, and no assembly at all. The diagonal is formed exactly
-//! (each row's segments on one body paired), and so is a bound of |W| per body for Gershgorin's
-//! bound.
+//! (the segments of a row on one body paired), and the bound of ‖Ŵ‖ that MPRGP's step length
+//! needs comes per body from an n_c × n_c matrix ([`BodyPart::row_bounds`]), not from W's
+//! entries.
+//!
+//! The products keep B's own entries (the segments as pushed) and K̃_c⁻¹, not B_c R_c with a
+//! square root R_c R_cᵀ = K̃_c⁻¹, which would spare the per-body product: on the heavy-on-light
+//! stack of 1e12 (`tests/mass_ratio.rs`) the irrational entries of B R add rounding to the
+//! cancelling contact forces of the light block, and two steps no longer converged.
 
+use crate::body::MAX_DOF;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
 use crate::jacobian::Jacobian;
 use std::sync::Mutex;
 
 /// One segment of B on a body-form cluster.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 struct Seg {
     row: usize,
     /// Its body (compact index).
@@ -32,13 +39,14 @@ pub(super) struct BodyPart {
     segs: Vec<Seg>,
     vals: Vec<f64>,
     /// Per body (compact order): its first DOF in the compact vectors (`bodies + 1` offsets),
-    /// and its K̃_c⁻¹ (n_c × n_c, column-major) from `kinv[kinv_at[b]..]`.
+    /// and its K̃_c⁻¹ and square root R_c (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from
+    /// `kinv[square[b]..]` and `root[square[b]..]`.
     offset: Vec<usize>,
-    kinv_at: Vec<usize>,
+    square: Vec<usize>,
+    /// Per body, its first entry in packed n_c(n_c + 1)/2 lower triangles (`bodies + 1` offsets).
+    packed: Vec<usize>,
     kinv: Vec<f64>,
-    /// The segments body by body (`body_start` has `bodies + 1` offsets into `by_body`).
-    by_body: Vec<usize>,
-    body_start: Vec<usize>,
+    root: Vec<f64>,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -53,24 +61,27 @@ impl BodyPart {
         body: &[bool],
         diagonal: &mut [f64],
     ) -> Self {
-        let mut part = BodyPart { offset: vec![0], ..Default::default() };
+        let mut part = BodyPart { offset: vec![0], packed: vec![0], ..Default::default() };
         let mut compact = vec![usize::MAX; body.len()];
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
-            if let Some(k) = flex.body_inverse(c) {
+            if let (Some(k), Some(r)) = (flex.body_inverse(c), flex.body_root(c)) {
                 let n = map.cluster_range(c).len();
-                compact[c] = part.kinv_at.len();
-                part.kinv_at.push(part.kinv.len());
+                compact[c] = part.square.len();
+                part.square.push(part.kinv.len());
                 part.kinv.extend((0..n).flat_map(|j| (0..n).map(move |i| k[(i, j)])));
+                part.root.extend((0..n).flat_map(|j| (0..n).map(move |i| r[(i, j)])));
                 part.offset.push(part.offset[compact[c]] + n);
+                part.packed.push(part.packed[compact[c]] + n * (n + 1) / 2);
             }
         }
+        part.segs.reserve(jac.segments.len());
+        part.vals.reserve(3 * jac.segments.len());
         for s in jac.segments.iter().filter(|s| compact[s.cluster] != usize::MAX) {
             let b = compact[s.cluster];
             let at = part.offset[b] + (s.start - map.cluster_range(s.cluster).start);
             part.segs.push(Seg { row: s.row, body: b, at, val: part.vals.len(), len: s.len });
             part.vals.extend_from_slice(&s.vals.as_slice()[..s.len]);
         }
-        (part.by_body, part.body_start) = group(part.segs.iter().map(|s| s.body), part.kinv_at.len());
         part.add_diagonal(jac.rows, diagonal);
         part
     }
@@ -79,14 +90,19 @@ impl BodyPart {
         self.segs.is_empty()
     }
 
+    /// DOFs of body b.
+    fn n(&self, b: usize) -> usize {
+        self.offset[b + 1] - self.offset[b]
+    }
+
     fn vals(&self, s: &Seg) -> &[f64] {
         &self.vals[s.val..s.val + s.len]
     }
 
     /// out[..n_b] = K̃_b⁻¹ u[..n_b].
     fn solve(&self, b: usize, u: &[f64], out: &mut [f64]) {
-        let n = self.offset[b + 1] - self.offset[b];
-        let k = &self.kinv[self.kinv_at[b]..self.kinv_at[b] + n * n];
+        let n = self.n(b);
+        let k = &self.kinv[self.square[b]..self.square[b] + n * n];
         // the common sizes with their loops unrolled (rigid bodies 3, deformable 4 and 6)
         match n {
             3 => solve_n::<3>(k, u, out),
@@ -105,8 +121,7 @@ impl BodyPart {
 
     /// K̃_b⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
     fn column(&self, s: &Seg, u: &mut [f64], out: &mut [f64]) {
-        let n = self.offset[s.body + 1] - self.offset[s.body];
-        u[..n].fill(0.0);
+        u[..self.n(s.body)].fill(0.0);
         let local = s.at - self.offset[s.body];
         u[local..local + s.len].copy_from_slice(self.vals(s));
         self.solve(s.body, u, out);
@@ -115,22 +130,33 @@ impl BodyPart {
     /// s · v over the segment's DOFs, v a body-local vector.
     fn dot(&self, s: &Seg, v: &[f64]) -> f64 {
         let local = s.at - self.offset[s.body];
-        self.vals(s).iter().zip(&v[local..local + s.len]).map(|(a, b)| a * b).sum()
+        dot(self.vals(s), &v[local..local + s.len])
     }
 
-    /// W_rr += Σ over pairs (s, t) of row r's segments on one body of s K̃⁻¹ tᵀ.
+    /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
+    /// products with the earlier segments of its row on its body (found through a chain per row).
     fn add_diagonal(&self, rows: usize, diagonal: &mut [f64]) {
-        let (by_row, start) = group(self.segs.iter().map(|s| s.row), rows);
-        let (mut u, mut x) = ([0.0; crate::body::MAX_DOF], [0.0; crate::body::MAX_DOF]);
-        for r in 0..rows {
-            let mine = &by_row[start[r]..start[r + 1]];
-            for &i in mine {
-                let s = &self.segs[i];
+        const NONE: usize = usize::MAX;
+        let (mut last, mut prev) = (vec![NONE; rows], vec![NONE; self.segs.len()]);
+        let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
+        for (i, s) in self.segs.iter().enumerate() {
+            let mut d = if s.len == 3 && self.n(s.body) == 3 {
+                quadratic_3(&self.kinv[self.square[s.body]..], self.vals(s)) // a rigid body's row
+            } else {
                 self.column(s, &mut u, &mut x);
-                for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| t.body == s.body) {
-                    diagonal[r] += self.dot(t, &x);
+                self.dot(s, &x)
+            };
+            let mut j = last[s.row];
+            while j != NONE {
+                let t = &self.segs[j];
+                if t.body == s.body {
+                    self.column(s, &mut u, &mut x);
+                    d += 2.0 * self.dot(t, &x);
                 }
+                j = prev[j];
             }
+            diagonal[s.row] += d;
+            (prev[i], last[s.row]) = (last[s.row], i);
         }
     }
 
@@ -143,26 +169,32 @@ impl BodyPart {
         work.resize(2 * n, 0.0);
         let (u, v) = work.split_at_mut(n);
         for s in &self.segs {
-            let zr = z[s.row];
-            for (ui, a) in u[s.at..s.at + s.len].iter_mut().zip(self.vals(s)) {
-                *ui += a * zr;
+            let (zr, vals) = (z[s.row], self.vals(s));
+            match s.len {
+                3 => axpy::<3>(zr, vals, &mut u[s.at..]),
+                len => u[s.at..s.at + len].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
             }
         }
-        for b in 0..self.kinv_at.len() {
+        for b in 0..self.square.len() {
             let r = self.offset[b]..self.offset[b + 1];
             self.solve(b, &u[r.clone()], &mut v[r]);
         }
         for s in &self.segs {
-            out[s.row] += self.vals(s).iter().zip(&v[s.at..s.at + s.len]).map(|(a, b)| a * b).sum::<f64>();
+            out[s.row] += match s.len {
+                3 => dot_n::<3>(self.vals(s), &v[s.at..]),
+                len => dot(self.vals(s), &v[s.at..s.at + len]),
+            };
         }
     }
 
     /// Pushes `(r, s, s_r K̃_c⁻¹ t_sᵀ)` for every pair of segments (s_r, t_s) on one body whose
     /// rows are both kept: W_bodies entry by entry, duplicates to be summed.
     pub fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
-        let (mut u, mut x) = ([0.0; crate::body::MAX_DOF], [0.0; crate::body::MAX_DOF]);
-        for b in 0..self.kinv_at.len() {
-            let mine = &self.by_body[self.body_start[b]..self.body_start[b + 1]];
+        let bodies = self.square.len();
+        let (by_body, start) = group(self.segs.iter().map(|s| s.body), bodies);
+        let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
+        for b in 0..bodies {
+            let mine = &by_body[start[b]..start[b + 1]];
             for s in mine.iter().map(|&i| &self.segs[i]).filter(|s| keep[s.row]) {
                 self.column(s, &mut u, &mut x);
                 for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| keep[t.row]) {
@@ -172,41 +204,71 @@ impl BodyPart {
         }
     }
 
-    /// out += M x with M = Σ_c Σ_{segments s, t on c} |s K̃_c⁻¹ tᵀ| (rows of s, t) >= |W_bodies|
-    /// entrywise: the absolute values are taken per pair of segments, so for disks (one
-    /// segment per row and body) M_rs differs from |W_rs| only where rows r and s share both
-    /// bodies, and then by the triangle inequality. Costs Σ_c m_c² short dot products, m_c
-    /// the segments on body c.
-    pub fn abs_apply(&self, x: &[f64], out: &mut [f64]) {
-        const M: usize = crate::body::MAX_DOF;
+    /// out_r += Σ_{segments s of row r} λ_c(s), with λ_c >= λ_max(M_c), M_c = Σ_{s on c}
+    /// sc_r² t_s t_sᵀ and t_s = R_cᵀ sᵀ (n_c × n_c): then xᵀ Ŵ_bodies x <= Σ_r out_r x_r² for every x,
+    /// Ŵ = S W S, S = diag(sc). (Body c adds |Σ_s sc_r x_r t_s|² = |T_cᵀ y|² <= λ_max(T_cᵀ T_c) |y|²,
+    /// T_c's rows sc_r t_sᵀ and y_s = x_row(s), and T_cᵀ T_c = M_c.) λ_c is exact for 3 DOFs
+    /// (rigid bodies) and Gershgorin's bound of M_c otherwise. Costs about 2 n_c² multiply-adds
+    /// per segment, where Gershgorin's bound of W took W's m_c² entries per body.
+    pub fn row_bounds(&self, sc: &[f64], out: &mut [f64]) {
+        let bodies = self.square.len();
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
-        for b in 0..self.kinv_at.len() {
-            let mine = &self.by_body[self.body_start[b]..self.body_start[b + 1]];
-            let (m, n) = (mine.len(), self.offset[b + 1] - self.offset[b]);
-            // rows: the segments padded to the body's DOFs; cols: K̃⁻¹ of each; xs: x at their rows
-            work.clear();
-            work.resize(2 * m * M + m, 0.0);
-            let (rows, rest) = work.split_at_mut(m * M);
-            let (cols, xs) = rest.split_at_mut(m * M);
-            for (j, &t) in mine.iter().enumerate() {
-                let seg = &self.segs[t];
-                let local = seg.at - self.offset[b];
-                rows[j * M + local..j * M + local + seg.len].copy_from_slice(self.vals(seg));
-                self.solve(b, &rows[j * M..j * M + n], &mut cols[j * M..j * M + n]);
-                xs[j] = x[seg.row];
+        work.clear();
+        work.resize(self.packed[bodies] + bodies, 0.0);
+        let (m, lambda) = work.split_at_mut(self.packed[bodies]);
+        for s in &self.segs {
+            let (b, w) = (s.body, sc[s.row] * sc[s.row]);
+            let (n, local, r) = (self.n(b), s.at - self.offset[b], &self.root[self.square[b]..]);
+            let mb = &mut m[self.packed[b]..self.packed[b + 1]];
+            if n == 3 && s.len == 3 {
+                // a rigid body's row, unrolled: t = Rᵀ s, M += w t tᵀ
+                let (r, v) = (&r[..9], self.vals(s));
+                let v = &v[..3];
+                let t = [
+                    r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
+                    r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
+                    r[6] * v[0] + r[7] * v[1] + r[8] * v[2],
+                ];
+                let wt = [w * t[0], w * t[1], w * t[2]];
+                let mb = &mut mb[..6];
+                (mb[0], mb[1], mb[2]) = (mb[0] + wt[0] * t[0], mb[1] + wt[1] * t[0], mb[2] + wt[1] * t[1]);
+                (mb[3], mb[4], mb[5]) = (mb[3] + wt[2] * t[0], mb[4] + wt[2] * t[1], mb[5] + wt[2] * t[2]);
+                continue;
             }
-            for (i, &s) in mine.iter().enumerate() {
-                let r = &rows[i * M..i * M + n];
-                let mut acc = 0.0;
-                for (c, xj) in cols.chunks_exact(M).zip(xs.iter()) {
-                    let w: f64 = r.iter().zip(&c[..n]).map(|(a, b)| a * b).sum();
-                    acc += w.abs() * xj;
+            let mut t = [0.0; MAX_DOF];
+            // t_j = Σ_i R_ij s_i (R column-major), then M += w t tᵀ (packed lower triangle)
+            for (j, tj) in t[..n].iter_mut().enumerate() {
+                *tj = dot(&r[j * n + local..j * n + local + s.len], self.vals(s));
+            }
+            let mut k = 0;
+            for i in 0..n {
+                let wt = w * t[i];
+                for (mij, tj) in mb[k..k + i + 1].iter_mut().zip(&t) {
+                    *mij += wt * tj;
                 }
-                out[self.segs[s].row] += acc;
+                k += i + 1;
             }
         }
+        for (b, l) in lambda.iter_mut().enumerate() {
+            *l = largest_eigenvalue(&m[self.packed[b]..self.packed[b + 1]], self.n(b));
+        }
+        for s in &self.segs {
+            out[s.row] += lambda[s.body];
+        }
     }
+}
+
+/// s K sᵀ for a symmetric 3 × 3 K (column-major).
+#[inline(always)]
+fn quadratic_3(k: &[f64], s: &[f64]) -> f64 {
+    let (k, s) = (&k[..9], &s[..3]);
+    let ks = [
+        k[0] * s[0] + k[3] * s[1] + k[6] * s[2],
+        k[1] * s[0] + k[4] * s[1] + k[7] * s[2],
+        k[2] * s[0] + k[5] * s[1] + k[8] * s[2],
+    ];
+    s[0] * ks[0] + s[1] * ks[1] + s[2] * ks[2]
 }
 
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).
@@ -220,6 +282,48 @@ fn solve_n<const N: usize>(k: &[f64], u: &[f64], out: &mut [f64]) {
         }
     }
     out[..N].copy_from_slice(&o);
+}
+
+/// An upper bound of the largest eigenvalue of the symmetric n × n matrix whose lower triangle is
+/// packed row by row in `m` (m_ij at i(i+1)/2 + j, j <= i): exact (to round-off) for n = 3 by the
+/// trigonometric solution of the characteristic cubic, Gershgorin's max_i Σ_j |m_ij| otherwise.
+fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
+    let a = |i: usize, j: usize| if j <= i { m[i * (i + 1) / 2 + j] } else { m[j * (j + 1) / 2 + i] };
+    if n != 3 {
+        return (0..n).map(|i| (0..n).map(|j| a(i, j).abs()).sum::<f64>()).fold(0.0, f64::max);
+    }
+    let off = a(1, 0) * a(1, 0) + a(2, 0) * a(2, 0) + a(2, 1) * a(2, 1);
+    let q = (a(0, 0) + a(1, 1) + a(2, 2)) / 3.0;
+    let (d0, d1, d2) = (a(0, 0) - q, a(1, 1) - q, a(2, 2) - q);
+    let p = ((d0 * d0 + d1 * d1 + d2 * d2 + 2.0 * off) / 6.0).sqrt();
+    if p == 0.0 {
+        return q; // a multiple of the identity
+    }
+    // det(B)/2 with B = (M − qI)/p, clamped against round-off; λ_max = q + 2p cos(acos(r)/3)
+    let det = d0 * (d1 * d2 - a(2, 1) * a(2, 1)) - a(1, 0) * (a(1, 0) * d2 - a(2, 1) * a(2, 0))
+        + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
+    let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
+    q + 2.0 * p * (r.acos() / 3.0).cos()
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// a[..N] · b[..N], unrolled.
+#[inline(always)]
+fn dot_n<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
+    let (a, b) = (&a[..N], &b[..N]);
+    (0..N).map(|i| a[i] * b[i]).sum()
+}
+
+/// u[..N] += x t[..N], unrolled.
+#[inline(always)]
+fn axpy<const N: usize>(x: f64, t: &[f64], u: &mut [f64]) {
+    let (t, u) = (&t[..N], &mut u[..N]);
+    for i in 0..N {
+        u[i] += x * t[i];
+    }
 }
 
 /// Indices 0..n grouped by key (keys < `groups`), each group in index order (a counting

@@ -110,8 +110,15 @@ impl ContactOperator {
         bodies: bool,
         scratch: &mut Scratch,
     ) -> ContactOperator {
-        scratch.layout(jac, flex, map);
         let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.body_inverse(c).is_some()).collect();
+        let mut diagonal = vec![0.0; jac.rows];
+        if jac.segments.iter().all(|s| body[s.cluster]) {
+            // a scene of single bodies: nothing to assemble (no layout, places or columns)
+            let bodies = BodyPart::new(jac, flex, map, &body, &mut diagonal);
+            let explicit = CsMat::zero((jac.rows, jac.rows));
+            return ContactOperator { explicit, factored: Vec::new(), bodies, diagonal };
+        }
+        scratch.layout(jac, flex, map);
         let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
             .iter()
             .zip(&scratch.col_len)
@@ -120,7 +127,6 @@ impl ContactOperator {
                 !b && rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
             })
             .collect();
-        let mut diagonal = vec![0.0; jac.rows];
         let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
         let bodies = BodyPart::new(jac, flex, map, &body, &mut diagonal);
         let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
@@ -171,11 +177,13 @@ impl Operator for ContactOperator {
         (self.factored.is_empty() && self.bodies.is_empty()).then(|| self.explicit.view())
     }
 
-    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
-        if !self.factored.is_empty() || !self.explicit.abs_apply(x, out) {
+    /// Gershgorin's rows for the explicit part, the bodies' eigenvalue bounds for the body form
+    /// (`BodyPart::row_bounds`); not with factored clusters (their entries are not at hand).
+    fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
+        if !self.factored.is_empty() || !self.explicit.row_bounds(sc, out) {
             return false;
         }
-        self.bodies.abs_apply(x, out);
+        self.bodies.row_bounds(sc, out);
         true
     }
 

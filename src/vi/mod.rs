@@ -512,23 +512,15 @@ impl Solver {
         let v = &mut self.vectors;
         let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
-            let gershgorin = mprgp.then(|| rows.abs_row_sum_max());
+            let bound = mprgp.then(|| mprgp::Bound::Gershgorin(rows.abs_row_sum_max()));
             let c = pc::Ctx::new(rows, s, par, correction, measure);
-            outer_run(c, &pass, v, &mut st, z, gershgorin, mprgp)
+            outer_run(c, &pass, v, &mut st, z, bound, mprgp)
         } else {
-            // Gershgorin's bound of Ŵ = S W S from a bound M >= |W|: max_i sc_i (M sc)_i
-            let gershgorin = (mprgp && p.w.abs_apply(&s.sc, &mut v.tmp))
-                .then(|| v.tmp.iter().zip(&s.sc).map(|(m, c)| m * c).fold(0.0, f64::max));
+            // ‖Ŵ‖ <= max_r of the operator's row bounds of Ŵ = S W S
+            let bound = (mprgp && p.w.row_bounds(&s.sc, &mut v.tmp))
+                .then(|| mprgp::Bound::Operator(v.tmp.iter().copied().fold(0.0, f64::max)));
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(
-                pc::Ctx::new(rows, s, par, correction, measure),
-                &pass,
-                v,
-                &mut st,
-                z,
-                gershgorin,
-                mprgp,
-            )
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, bound, mprgp)
         };
         self.stats = st.stats;
         report
@@ -540,19 +532,19 @@ impl Solver {
     }
 }
 
-/// The outer loop with PC, or with MPRGP passes (its step length from `gershgorin`, else by
-/// power iteration).
+/// The outer loop with PC, or with MPRGP passes (its step length from `bound`, else by power
+/// iteration).
 fn outer_run<R: scaling::Rows>(
     mut c: pc::Ctx<R>,
     pass: &outer::Pass,
     v: &mut pc::Vectors,
     st: &mut pc::State,
     z: &mut [f64],
-    gershgorin: Option<f64>,
+    bound: Option<mprgp::Bound>,
     mprgp: bool,
 ) -> Report {
     if mprgp {
-        c.mprgp = Some(mprgp::step_length(&c, v, st, gershgorin));
+        c.mprgp = Some(mprgp::step_length(&c, v, st, bound));
     }
     outer::solve(&c, pass, v, st, z)
 }

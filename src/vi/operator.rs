@@ -16,10 +16,12 @@ pub trait Operator: Sync {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         None
     }
-    /// out = M x (overwrites out) for some M >= |W| entrywise, when that is cheap (MPRGP's step
-    /// length then comes from Gershgorin's bound of M instead of power iterations); false
-    /// otherwise (the default), out unspecified.
-    fn abs_apply(&self, _x: &[f64], _out: &mut [f64]) -> bool {
+    /// Overwrites `out` with row weights of a diagonal bound of the scaled Ŵ = S W S,
+    /// S = diag(sc): xᵀ Ŵ x <= Σ_r out_r x_r² for every x, so that ‖Ŵ‖ <= max_r out_r, when that
+    /// is cheap (MPRGP's step length then comes from it instead of power iterations); false
+    /// otherwise (the default), out unspecified. For an explicit W, Gershgorin's rows
+    /// out_r = sc_r Σ_j |W_rj| sc_j (xᵀAx <= Σ_rj |A_rj| (x_r² + x_j²)/2 for a symmetric A).
+    fn row_bounds(&self, _sc: &[f64], _out: &mut [f64]) -> bool {
         false
     }
     /// Pushes `(i, j, W_ij)` onto `out` for the entries of W in rows and columns with `keep`
@@ -46,8 +48,8 @@ impl Operator for CsMat<f64> {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         Some(if self.is_csr() { self.view() } else { self.transpose_view() })
     }
-    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
-        abs_apply_view(self.view(), x, out);
+    fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
+        gershgorin_rows(self.view(), sc, out);
         true
     }
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
@@ -70,8 +72,8 @@ impl Operator for CsMatView<'_, f64> {
     fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
         Some(if self.is_csr() { self.view() } else { self.transpose_view() })
     }
-    fn abs_apply(&self, x: &[f64], out: &mut [f64]) -> bool {
-        abs_apply_view(self.view(), x, out);
+    fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
+        gershgorin_rows(self.view(), sc, out);
         true
     }
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
@@ -96,13 +98,13 @@ fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
     }
 }
 
-/// out = |W| x for CSR or CSC storage.
-fn abs_apply_view(w: CsMatView<'_, f64>, x: &[f64], out: &mut [f64]) {
+/// out_r = sc_r Σ_j |W_rj| sc_j (Gershgorin's rows of S W S) for CSR or CSC storage.
+fn gershgorin_rows(w: CsMatView<'_, f64>, sc: &[f64], out: &mut [f64]) {
     out.fill(0.0);
     for (i, vec) in w.outer_iterator().enumerate() {
         for (j, &v) in vec.iter() {
             let (r, c) = if w.is_csr() { (i, j) } else { (j, i) };
-            out[r] += v.abs() * x[c];
+            out[r] += sc[r] * v.abs() * sc[c];
         }
     }
 }

@@ -30,11 +30,12 @@ impl World {
         crate::contact::label_mesh_kinds(&mut geoms, &meshes);
         let partners = joint_partners(&geoms);
         let mut row = 0;
+        let mut memory = self.memory.lookup();
         let contacts = geoms
             .into_iter()
             .zip(partners)
             .map(|(geom, partner)| {
-                let memory = self.memory.get(&geom.key).copied();
+                let memory = memory.get(&geom.key);
                 let law = self.law(&geom, partner, memory, row);
                 row += law.rows();
                 let start_gap = if geom.g0.abs() < self.allowance { 0.0 } else { geom.g0 };

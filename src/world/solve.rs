@@ -258,9 +258,13 @@ impl World {
         z: &[f64],
         impacting: &[bool],
     ) -> Vec<f64> {
-        let dp = self.response(rows, z, |_| true);
-        let dimp = self.response(rows, z, |r| impacting[r]);
-        (0..df.len()).map(|i| df[i] + dp[i] + dimp[i]).collect()
+        let mut d = self.response(rows, z, |_| true);
+        d.iter_mut().zip(df).for_each(|(x, f)| *x += f);
+        if impacting.contains(&true) {
+            let dimp = self.response(rows, z, |r| impacting[r]);
+            d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);
+        }
+        d
     }
 
     /// K̃⁻¹ Bᵀ z over the rows `keep` selects (paper eq. 22: d^p = K⁻¹ C p).

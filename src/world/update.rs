@@ -3,7 +3,7 @@
 use super::detect::Contact;
 use super::solve::Solved;
 use super::{ContactRecord, ContactState, Event, Warning, World};
-use crate::contact::set::Memory;
+use crate::contact::set::{ContactMemory, Memory};
 
 /// The displacements of a step, as global DOF vectors (math note §1.3 c, d).
 pub(super) struct Motion {
@@ -151,16 +151,18 @@ impl World {
     /// Warm start, "was closed" and bond memory for the next step (a joint that broke in the
     /// step was solved again unbonded: `World::trial`).
     pub(super) fn remember(&mut self, contacts: &[Contact], s: &Solved) {
-        self.memory = contacts
-            .iter()
-            .enumerate()
-            .map(|(k, c)| {
-                let r = c.law.row;
-                let mut force = [0.0; 3];
-                force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
-                (c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded })
-            })
-            .collect();
+        self.memory = ContactMemory::from_entries(
+            contacts
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    let r = c.law.row;
+                    let mut force = [0.0; 3];
+                    force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
+                    (c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded })
+                })
+                .collect(),
+        );
     }
 
     /// Pairs that started this step penetrating deeper than 5 % of the contact threshold.
