@@ -151,7 +151,11 @@ impl Operator for ContactOperator {
     }
 
     fn apply(&self, z: &[f64], out: &mut [f64]) {
-        self.explicit.apply(z, out);
+        if self.explicit.nnz() == 0 {
+            out.fill(0.0); // a scene of single bodies: no rows to walk
+        } else {
+            self.explicit.apply(z, out);
+        }
         self.bodies.apply(z, out);
         let mut t = Vec::with_capacity(self.factored.iter().map(|f| f.n).max().unwrap_or(0));
         for f in &self.factored {
@@ -180,8 +184,13 @@ impl Operator for ContactOperator {
     /// Gershgorin's rows for the explicit part, the bodies' eigenvalue bounds for the body form
     /// (`BodyPart::row_bounds`); not with factored clusters (their entries are not at hand).
     fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
-        if !self.factored.is_empty() || !self.explicit.row_bounds(sc, out) {
+        if !self.factored.is_empty() {
             return false;
+        }
+        if self.explicit.nnz() == 0 {
+            out.fill(0.0);
+        } else {
+            self.explicit.row_bounds(sc, out);
         }
         self.bodies.row_bounds(sc, out);
         true
