@@ -309,19 +309,20 @@ fn hexagon(fixed_rim: bool) -> (Vec<Body>, DofMap, Flexibility, Jacobian) {
     (bodies, map, flex, jac)
 }
 
-/// The largest eigenvalue of Ŵ = S W S (S = diag(W)^{-1/2} where W_rr > 0) and the body form's
-/// row bounds of it.
-fn scaled_norm_and_bound(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (f64, Vec<f64>) {
+/// The largest eigenvalue of Ŵ = S W S (S = diag(W)^{-1/2} where W_rr > 0), the body form's row
+/// bounds of it, and Gershgorin's bound of Ŵ.
+fn scaled_norm_and_bounds(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (f64, Vec<f64>, f64) {
     let w = delassus::assemble(jac, flex, map).to_dense();
     let rows = jac.rows;
     let sc: Vec<f64> =
         (0..rows).map(|r| if w[[r, r]] > 0.0 { 1.0 / w[[r, r]].sqrt() } else { 1.0 }).collect();
     let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w[[r, c]] * sc[c]);
+    let gershgorin = hat.row_iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
     let op =
         delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
     let mut bound = vec![0.0; rows];
     assert!(op.row_bounds(&sc, &mut bound));
-    (SymmetricEigen::new(hat).eigenvalues.max(), bound)
+    (SymmetricEigen::new(hat).eigenvalues.max(), bound, gershgorin)
 }
 
 /// MPRGP's step length comes from the body form's row bounds (math note §3.3, §4.8). For one free
@@ -332,7 +333,7 @@ fn scaled_norm_and_bound(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (f
 #[test]
 fn body_form_bound_is_the_norm_of_one_body() {
     let (_, map, flex, jac) = hexagon(true);
-    let (norm, bound) = scaled_norm_and_bound(&map, &flex, &jac);
+    let (norm, bound, _) = scaled_norm_and_bounds(&map, &flex, &jac);
     let (spokes, rims) = (&bound[..12], &bound[12..]);
     assert!(spokes.iter().all(|b| (b - norm).abs() <= 1e-12 * norm), "bounds {spokes:?} vs ‖Ŵ‖ {norm}");
     assert!(rims.iter().all(|&b| b == 0.0), "rows between fixed disks carry no bound: {rims:?}");
@@ -344,13 +345,7 @@ fn body_form_bound_is_the_norm_of_one_body() {
 #[test]
 fn body_form_bound_lies_between_the_norm_and_gershgorin() {
     let (_, map, flex, jac) = hexagon(false);
-    let (norm, bound) = scaled_norm_and_bound(&map, &flex, &jac);
-    let w = delassus::assemble(&jac, &flex, &map).to_dense();
-    let rows = jac.rows;
-    let sc: Vec<f64> = (0..rows).map(|r| 1.0 / w[[r, r]].sqrt()).collect();
-    let gershgorin = (0..rows)
-        .map(|r| (0..rows).map(|c| sc[r] * w[[r, c]].abs() * sc[c]).sum::<f64>())
-        .fold(0.0, f64::max);
+    let (norm, bound, gershgorin) = scaled_norm_and_bounds(&map, &flex, &jac);
     let top = bound.iter().fold(0.0f64, |a, b| a.max(*b));
     assert!(norm <= top * (1.0 + 1e-12), "‖Ŵ‖ {norm} above the bound {top}");
     assert!(top < gershgorin, "bound {top} not below Gershgorin's {gershgorin}");
