@@ -161,7 +161,8 @@ pub(super) fn run<R: Rows>(
 ) -> Result<(), Status> {
     let mut since_refresh = 0;
     let mut cg = false; // p is a CG direction (else it is reset to φ)
-    let (mut next_face, mut interval, mut regularize) = (st.inner + face::FIRST, face::EVERY, false);
+    let first = face::first(v.y.len(), st.res, inner_tol);
+    let (mut next_face, mut interval, mut regularize) = (st.inner + first, face::EVERY, false);
     loop {
         let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
         if let Some(end) = stop(st, inner_tol, limit, max_iterations) {

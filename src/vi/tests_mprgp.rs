@@ -169,14 +169,53 @@ fn face_solve_lands_on_the_minimizer_of_a_long_chain() {
     }
 }
 
+/// A warm run's first face solve waits one iteration per `face::ROWS_PER_ITERATION` rows (math
+/// note §4.10). The chain of `face_solve_lands_on_the_minimizer_of_a_long_chain` with 30,000
+/// rows: z_i = (i + 1)(30,000 − i)/2, every row free; tolerance 1e-10, a budget of
+/// 30,000 / ROWS_PER_ITERATION − 1 = 29 iterations. Starts:
+/// * z = 0 (cold): the face solve comes at iteration `FIRST` = 20 and lands on the minimizer,
+///   converged after exactly 20 iterations with one face solve;
+/// * the minimizer plus `amp` times the 60 smoothest eigenvectors, each weighted 1/λ_k so that
+///   each adds alike to the gradient: CG needs about one iteration per eigenvalue, more than
+///   the budget. With amp = 0.1 the start's residual (measured by a call with no iterations)
+///   is above `WARM` times the tolerance, so the run is cold: face solve at 20, converged. With
+///   amp = 1e-3 it is within it: no face solve in the 29 iterations, and the budget runs out.
+#[test]
+fn warm_runs_wait_longer_for_their_first_face_solve() {
+    let n = 30_000;
+    assert_eq!(n / face::ROWS_PER_ITERATION - 1, 29);
+    let w = laplacian(n);
+    let rule = FixedBounds { lo: vec![-1e12; n], hi: vec![1e12; n] };
+    let q = vec![-1.0; n];
+    let p = Problem { w: &w, q: &q, blocks: &singles(n) };
+    let o = Options { max_iterations: 29, ..opts(1e-10, true) };
+    let mut ws = mprgp();
+    let rep = ws.solve(&p, &rule, &mut vec![0.0; n], &o);
+    assert!(rep.converged, "cold: {rep:?}");
+    assert_eq!((ws.stats().face_solves, rep.inner_iterations), (1, face::FIRST), "cold: {rep:?}");
+    let h = std::f64::consts::PI / (n + 1) as f64;
+    let smooth = |i: usize| -> f64 {
+        (1..=60).map(|k| ((k * (i + 1)) as f64 * h).sin() / (2.0 - 2.0 * (k as f64 * h).cos())).sum()
+    };
+    for (amp, warm) in [(0.1, false), (1e-3, true)] {
+        let z: Vec<f64> = (0..n).map(|i| ((i + 1) * (n - i)) as f64 / 2.0 + amp * smooth(i)).collect();
+        let start = ws.solve(&p, &rule, &mut z.clone(), &Options { max_iterations: 0, ..o }).residual;
+        assert_eq!(start <= face::WARM * o.tolerance, warm, "amp {amp}: start residual {start:e}");
+        let rep = ws.solve(&p, &rule, &mut z.clone(), &o);
+        let want = if warm { (0, false, 29) } else { (1, true, face::FIRST) };
+        assert_eq!((ws.stats().face_solves, rep.converged, rep.inner_iterations), want, "amp {amp}: {rep:?}");
+    }
+}
+
 /// The 1-D Laplacian tridiag(−1, 2, −1) of order n.
 fn laplacian(n: usize) -> sprs::CsMat<f64> {
-    let mut dense = vec![0.0; n * n];
+    let mut t = sprs::TriMat::new((n, n));
     for i in 0..n {
-        dense[i * n + i] = 2.0;
+        t.add_triplet(i, i, 2.0);
         if i + 1 < n {
-            (dense[i * n + i + 1], dense[(i + 1) * n + i]) = (-1.0, -1.0);
+            t.add_triplet(i, i + 1, -1.0);
+            t.add_triplet(i + 1, i, -1.0);
         }
     }
-    csr(n, &dense)
+    t.to_csr()
 }
