@@ -27,6 +27,7 @@ pub(super) const FIRST: usize = 20;
 /// step 660 iterations instead of 387), and their late face solves make the steps after them
 /// cheap (math note §4.10).
 pub(super) const WARM: f64 = 100.0;
+/// Rows per iteration of a warm run's wait for its first face solve (see [`WARM`]).
 pub(super) const ROWS_PER_ITERATION: usize = 1000;
 pub(super) const EVERY: usize = 10;
 pub(super) const GOOD: f64 = 0.25;
