@@ -207,7 +207,8 @@ impl Flexibility {
     }
 
     /// A square root R of K̃_c⁻¹ (R Rᵀ = K̃_c⁻¹; upper triangular, padded to 6×6) when cluster `c`
-    /// is a single body's closed form: W's body form works with B R (`delassus/bodies.rs`).
+    /// is a single body's closed form: the body form's bound of ‖Ŵ‖ works with B R
+    /// (`delassus/bodies.rs`, math note §3.3).
     pub fn body_root(&self, c: usize) -> Option<&BodyMatrix> {
         match self.factors[c].as_ref() {
             Factor::Body { root, .. } => Some(root),

@@ -15,7 +15,7 @@ use super::scaling::Rows;
 use crate::cluster::SparseFactor;
 
 /// The first face solve of a run after this many of its iterations (warm-started steps of a
-/// resting pile converge in about 5), then one every [`EVERY`] iterations while they go at
+/// resting pile converge in 0 to 5), then one every [`EVERY`] iterations while they go at
 /// least [`GOOD`] of the way to the face's minimizer; after a shorter step or a declined
 /// solve, the interval grows [`BACKOFF`]-fold (the face was far from the final one).
 pub(super) const FIRST: usize = 20;

@@ -242,12 +242,11 @@ pub(super) fn run<R: Rows>(
 /// it is above ||Ŵ|| / 2, which 10 iterations reach on W's of contact networks: λ = 3.99998
 /// on the 1 000-disk pile, whose Gershgorin bound is 6).
 pub(super) fn step_length<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, bound: Option<Bound>) -> f64 {
-    let (factor, b) = match bound {
-        Some(Bound::Gershgorin(g)) => (ABAR_GERSHGORIN, g),
-        Some(Bound::Operator(b)) => (ABAR_OPERATOR, b),
-        None => (0.0, f64::NAN),
-    };
-    if b > 0.0 && b.is_finite() {
+    let from_bound = bound.map(|b| match b {
+        Bound::Gershgorin(g) => (ABAR_GERSHGORIN, g),
+        Bound::Operator(b) => (ABAR_OPERATOR, b),
+    });
+    if let Some((factor, b)) = from_bound.filter(|(_, b)| *b > 0.0 && b.is_finite()) {
         return factor / b;
     }
     let n = v.y.len();

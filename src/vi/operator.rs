@@ -84,7 +84,9 @@ impl Operator for CsMatView<'_, f64> {
 
 /// out = W z for CSR or CSC storage.
 fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
-    if w.is_csr() {
+    if w.nnz() == 0 {
+        out.fill(0.0); // no rows to walk (W of a scene of single bodies in body form)
+    } else if w.is_csr() {
         for (o, row) in out.iter_mut().zip(w.outer_iterator()) {
             *o = row.iter().map(|(j, &v)| v * z[j]).sum();
         }
@@ -101,6 +103,9 @@ fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
 /// out_r = sc_r Σ_j |W_rj| sc_j (Gershgorin's rows of S W S) for CSR or CSC storage.
 fn gershgorin_rows(w: CsMatView<'_, f64>, sc: &[f64], out: &mut [f64]) {
     out.fill(0.0);
+    if w.nnz() == 0 {
+        return; // no rows to walk
+    }
     for (i, vec) in w.outer_iterator().enumerate() {
         for (j, &v) in vec.iter() {
             let (r, c) = if w.is_csr() { (i, j) } else { (j, i) };
