@@ -77,7 +77,11 @@ pub(super) struct Vectors {
 }
 
 impl Vectors {
-    /// Sizes everything for n rows and starts from the warm start z (y = sd z).
+    /// Sizes everything for n rows and starts from the warm start z (y = sd z). Only `y` and
+    /// `z0` are set here: every other vector is written before it is read (the first pass
+    /// writes the box and sweeps; MPRGP and PC write their directions and products), so its
+    /// entries from an earlier call are kept rather than zeroed (3 % of a warm step of the
+    /// 1,000-disk pile went to zeroing them).
     pub fn start(&mut self, z: &[f64], sd: &[f64]) {
         let n = z.len();
         for v in [
@@ -94,7 +98,6 @@ impl Vectors {
             &mut self.z0,
             &mut self.tmp,
         ] {
-            v.clear();
             v.resize(n, 0.0);
         }
         self.parts.clear();
