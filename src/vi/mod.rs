@@ -320,6 +320,8 @@ pub struct Solver {
     /// scene's `[solver] method`, default [`Method::Auto`], before every solve).
     pub method: Method,
     stats: Stats,
+    /// The last solve converged and its work vectors hold a full product of its answer.
+    exact: bool,
     nsgs: nsgs::Work,
     /// The caller's warm start, kept for the MPRGP guard.
     warm: Vec<f64>,
@@ -341,6 +343,7 @@ impl Solver {
             inexact: 0.1,
             method: Method::Pc,
             stats: Stats::default(),
+            exact: false,
             nsgs: nsgs::Work::default(),
             warm: Vec::new(),
             scaling: scaling::Scaling::default(),
@@ -377,12 +380,24 @@ impl Solver {
         self.stats
     }
 
+    /// G = q + W z at the z the last [`Self::solve`] returned, from the full product W z its
+    /// last sweep made (W z = D^{1/2} Ŵ y), without a new product; `None` when there is no such
+    /// product: the solve did not converge, ran NSGS, or its answer moved after its last sweep
+    /// (an MPRGP step updates Ŵy along with y). `q` must be the problem's. Equal to q + W z up
+    /// to rounding: the returned z snaps rows at a bound to the bound exactly.
+    pub fn gaps(&self, q: &[f64]) -> Option<Vec<f64>> {
+        let (wy, sd) = (&self.vectors.wy, &self.scaling.sd);
+        (self.exact && q.len() == wy.len() && q.len() == sd.len())
+            .then(|| q.iter().zip(wy).zip(sd).map(|((q, w), s)| q + w * s).collect())
+    }
+
     /// Solves the (Q)VI, starting from and overwriting `z` (warm start); see the module
     /// documentation for the method. Afterwards [`Self::stats`] tells why it stopped and how
     /// many W-products it used. Never panics on bad input ([`Status::InvalidInput`]).
     pub fn solve(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
         let n = p.q.len();
         self.stats = Stats::default();
+        self.exact = false;
         let csr = p.w.as_csr();
         let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
         if !p.is_consistent(z) || !csr_ok {
@@ -523,6 +538,7 @@ impl Solver {
             outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, bound, mprgp)
         };
         self.stats = st.stats;
+        self.exact = report.converged && st.exact;
         report
     }
 

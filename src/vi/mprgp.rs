@@ -131,7 +131,8 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
 }
 
 /// y −= α p, Ŵy −= α Ŵp.
-fn step(v: &mut Vectors, alpha: f64) {
+fn step(v: &mut Vectors, st: &mut State, alpha: f64) {
+    st.exact = false;
     let Vectors { y, wy, yt, wyt, ylo, yhi, .. } = v;
     for i in 0..y.len() {
         y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);
@@ -202,10 +203,10 @@ pub(super) fn run<R: Rows>(
         }
         if !proportional {
             // Proportioning step, kept inside the box.
-            step(v, acg.min(af));
+            step(v, st, acg.min(af));
             cg = false;
         } else if acg <= af {
-            step(v, acg);
+            step(v, st, acg);
             since_refresh += 1;
             // Next direction p = φ − γ p, γ = φᵀŴp / pᵀŴp (conjugate to the last one).
             let mut fap = 0.0;
@@ -219,7 +220,7 @@ pub(super) fn run<R: Rows>(
             }
             cg = true;
         } else {
-            step(v, af);
+            step(v, st, af);
             if !expand(c, v, st, abar) {
                 return Err(Status::NonFinite);
             }

@@ -123,6 +123,9 @@ pub(super) struct State {
     pub ee: f64,
     /// A sweep has been made (its results above are those of the current y unless y moved).
     pub fresh: bool,
+    /// `wy` is a full product of the current y (the last change of y was followed by a sweep),
+    /// not one updated along with MPRGP's steps.
+    pub exact: bool,
     /// y lay outside the box at the last sweep (contraction step only).
     pub last_infeasible: bool,
     /// A valid box exists (from an earlier pass).
@@ -142,6 +145,7 @@ impl State {
             znorm: 0.0,
             ee: 0.0,
             fresh: false,
+            exact: false,
             last_infeasible: false,
             have_prev: false,
             stats: Stats::default(),
@@ -219,6 +223,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
         pt
     });
     st.fresh = true;
+    st.exact = true;
     st.last_infeasible = pt.s1 > 0.0;
     st.res = Measure::combine(pt.m0, pt.m2, pt.m1);
     st.znorm = pt.m1;

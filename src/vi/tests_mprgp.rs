@@ -219,3 +219,35 @@ fn laplacian(n: usize) -> sprs::CsMat<f64> {
     }
     t.to_csr()
 }
+
+/// `Solver::gaps` gives G = q + W z at the answer from the solver's last product: on the
+/// stick and slide cases of `mprgp_closed_forms` (explicit and matrix-free W, with and without
+/// Jacobi scaling) it equals q + W z computed here to 1e-13 (the two sums differ by rounding
+/// only; the answers are O(1)); after a solve that did not converge it is `None`.
+#[test]
+fn gaps_come_from_the_last_product() {
+    for jacobi in [true, false] {
+        for free in [false, true] {
+            let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
+            let (explicit, wrapped) = (m.clone(), MatrixFree(m.clone()));
+            let w: &dyn Operator = if free { &wrapped } else { &explicit };
+            let mut ws = mprgp();
+            for q in [[-2.0, -0.2], [-2.0, -2.0]] {
+                let mut z = vec![0.0, 0.0];
+                let p = Problem { w, q: &q, blocks: &[0, 2] };
+                assert!(ws.solve(&p, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
+                let mut wz = [0.0; 2];
+                m.apply(&z, &mut wz);
+                let gaps = ws.gaps(&q).expect("a converged MPRGP solve ends with a sweep");
+                for i in 0..2 {
+                    assert!((gaps[i] - (q[i] + wz[i])).abs() < 1e-13, "{q:?}: {gaps:?} vs {wz:?}");
+                }
+            }
+            let mut z = vec![0.0, 0.0];
+            let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+            let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
+            assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
+            assert!(ws.gaps(&[-2.0, -2.0]).is_none());
+        }
+    }
+}

@@ -62,14 +62,27 @@ struct Runner<'a> {
 }
 
 impl Runner<'_> {
-    fn run(&mut self, world: &World, laws: &[Law], rows: &Rows, q: &[f64], z: &mut [f64], solve: SolveKind) {
+    /// Solves one VI into `z`; returns G = q + W z at the answer when the solver has it from its
+    /// last product ([`vi::Solver::gaps`]) and the polish (§10.10) left z alone.
+    fn run(
+        &mut self,
+        world: &World,
+        laws: &[Law],
+        rows: &Rows,
+        q: &[f64],
+        z: &mut [f64],
+        solve: SolveKind,
+    ) -> Option<Vec<f64>> {
         let started = Instant::now();
         let rule = world.bounds(laws);
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
         self.pipeline.vi.method = world.model.solver.method;
         let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
+        let mut gaps = None;
         if r.converged {
-            world.polish(rows, q, &rule, z);
+            if !world.polish(rows, q, &rule, z) {
+                gaps = self.pipeline.vi.gaps(q);
+            }
         } else {
             let (step, residual, iterations) = (self.step, r.residual, r.inner_iterations);
             self.warnings.push(Warning::NotConverged { step, solve, residual, iterations });
@@ -79,6 +92,7 @@ impl Runner<'_> {
         self.report.residual = self.report.residual.max(r.residual);
         self.report.converged &= r.converged;
         self.times.vi += started.elapsed().as_secs_f64();
+        gaps
     }
 
     /// Builds rows with the pipeline's storage, timing it.
@@ -143,8 +157,8 @@ impl World {
         let (rows, state, last) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
-            runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
-            let state = self.classify(contacts, &rows, &z1);
+            let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
+            let state = self.classify(contacts, &rows, &z1, gaps);
             if refinements == MAX_REFINEMENTS {
                 let last = rows.lin.clone();
                 break (rows, state, last);
@@ -205,19 +219,23 @@ impl World {
         (10.0 * self.model.solver.tolerance * zmax * s.w_diag_max).max(1e-9 * self.threshold)
     }
 
-    /// End-of-step gaps G = q + W z, which contacts are closed (bonded, loaded, or touching at
-    /// the end of the step to within the penetration allowance), and the rows of impacting
-    /// contacts (math note §10.5).
-    fn classify(&self, contacts: &[Contact], rows: &Rows, z: &[f64]) -> Classified {
-        let mut gaps = rows.q.clone();
-        match rows.w.as_csr() {
-            Some(w) => sprs::prod::mul_acc_mat_vec_csr(w, z, &mut gaps[..]),
-            None => {
-                let mut wz = vec![0.0; z.len()];
-                rows.w.apply(z, &mut wz);
-                gaps.iter_mut().zip(&wz).for_each(|(g, x)| *g += x);
+    /// End-of-step gaps G = q + W z (`gaps` when the solver had them from its last product, else
+    /// one product here), which contacts are closed (bonded, loaded, or touching at the end of
+    /// the step to within the penetration allowance), and the rows of impacting contacts (math
+    /// note §10.5).
+    fn classify(&self, contacts: &[Contact], rows: &Rows, z: &[f64], gaps: Option<Vec<f64>>) -> Classified {
+        let gaps = gaps.unwrap_or_else(|| {
+            let mut gaps = rows.q.clone();
+            match rows.w.as_csr() {
+                Some(w) => sprs::prod::mul_acc_mat_vec_csr(w, z, &mut gaps[..]),
+                None => {
+                    let mut wz = vec![0.0; z.len()];
+                    rows.w.apply(z, &mut wz);
+                    gaps.iter_mut().zip(&wz).for_each(|(g, x)| *g += x);
+                }
             }
-        }
+            gaps
+        });
         let touching = self.allowance;
         let closed: Vec<bool> = contacts
             .iter()
