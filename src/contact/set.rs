@@ -25,10 +25,6 @@ pub struct ContactMemory {
 }
 
 impl ContactMemory {
-    pub fn new() -> ContactMemory {
-        ContactMemory::default()
-    }
-
     /// The memory of `entries` (sorted here if they are not).
     pub fn from_entries(mut entries: Vec<(ContactKey, Memory)>) -> ContactMemory {
         if !entries.is_sorted_by_key(|e| e.0) {
@@ -36,14 +32,6 @@ impl ContactMemory {
         }
         entries.dedup_by_key(|e| e.0);
         ContactMemory { entries }
-    }
-
-    /// Sets the memory of `key`.
-    pub fn insert(&mut self, key: ContactKey, memory: Memory) {
-        match self.entries.binary_search_by_key(&key, |e| e.0) {
-            Ok(i) => self.entries[i].1 = memory,
-            Err(i) => self.entries.insert(i, (key, memory)),
-        }
     }
 
     /// A reader for keys asked in ascending order.
@@ -116,12 +104,12 @@ mod tests {
         Memory { force: [(10 * a + b) as f64, 0.0, 0.0], closed: true, bonded: false }
     }
 
-    /// The memory built from unsorted entries, read by merge (ascending keys), by bisection (keys
-    /// asked in descending order) and after inserts: every key gets exactly what was stored under
-    /// it, a key never stored gets nothing.
+    /// The memory built from unsorted entries, read by merge (ascending keys) and by bisection
+    /// (keys asked in descending order): every key gets exactly what was stored under it, a key
+    /// never stored gets nothing.
     #[test]
     fn lookup_finds_each_key_in_any_order() {
-        let mut stored = vec![(3, 1), (0, 2), (1, 5), (2, 2)];
+        let stored = [(3, 1), (0, 2), (1, 5), (2, 2)];
         let memory =
             ContactMemory::from_entries(stored.iter().map(|&(a, b)| (key(a, b), remembered(a, b))).collect());
         let asked = [(0, 1), (0, 2), (1, 5), (2, 0), (2, 2), (3, 1), (4, 0)];
@@ -134,14 +122,6 @@ mod tests {
         let mut lookup = memory.lookup();
         for &k in asked.iter().rev() {
             assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "descending {k:?}");
-        }
-        let mut memory = memory;
-        memory.insert(key(2, 0), remembered(2, 0));
-        memory.insert(key(3, 1), remembered(3, 1));
-        stored.push((2, 0));
-        let mut lookup = memory.lookup();
-        for &k in &asked {
-            assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "after inserts {k:?}");
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use super::World;
 use crate::contact::law::Law;
-use crate::contact::set::{Memory, joint_partners};
+use crate::contact::set::{ContactMemory, Memory, joint_partners};
 use crate::contact::{ContactGeom, ContactKind, detect, detect_reaching};
 
 /// A detected contact: geometry, law and what it remembers from the last step. Immutable
@@ -63,14 +63,18 @@ impl World {
     }
 
     /// Cements the contacts closed at t = 0 whose interface has a tensile strength (math
-    /// note §4.5, hypothesis i). Only joints have a length, so only edge-edge joints bond.
+    /// note §4.5, hypothesis i): the memory of a new world. Only joints have a length, so only
+    /// edge-edge joints bond.
     pub(super) fn cement(&mut self) {
         let closed = 1e-9 * self.threshold;
-        for g in detect(&self.shapes(), &self.fixed(), self.threshold) {
-            let law = self.interface(g.a, g.b);
-            if law.tensile_strength > 0.0 && g.joint_length > 0.0 && g.g0.abs() <= closed {
-                self.memory.insert(g.key, Memory { force: [0.0; 3], closed: true, bonded: true });
-            }
-        }
+        let bonds = detect(&self.shapes(), &self.fixed(), self.threshold)
+            .into_iter()
+            .filter(|g| {
+                let law = self.interface(g.a, g.b);
+                law.tensile_strength > 0.0 && g.joint_length > 0.0 && g.g0.abs() <= closed
+            })
+            .map(|g| (g.key, Memory { force: [0.0; 3], closed: true, bonded: true }))
+            .collect();
+        self.memory = ContactMemory::from_entries(bonds);
     }
 }

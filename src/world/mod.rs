@@ -155,7 +155,7 @@ impl World {
             connectors,
             dofs: DofMap::default(),
             flex: Flexibility::default(),
-            memory: ContactMemory::new(),
+            memory: ContactMemory::default(),
             broken: HashSet::new(),
             allowance: 1e-9 * threshold,
             started: false,
