@@ -141,7 +141,9 @@ impl BodyPart {
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for (i, s) in self.segs.iter().enumerate() {
             let mut d = if s.len == 3 && self.n(s.body) == 3 {
-                quadratic_3(&self.kinv[self.square[s.body]..], self.vals(s)) // a rigid body's row
+                // a rigid body's row (the segment covers the body's DOFs), unrolled
+                solve_n::<3>(&self.kinv[self.square[s.body]..], self.vals(s), &mut x);
+                dot_n::<3>(self.vals(s), &x)
             } else {
                 self.column(s, &mut u, &mut x);
                 self.dot(s, &x)
@@ -257,18 +259,6 @@ impl BodyPart {
             out[s.row] += lambda[s.body];
         }
     }
-}
-
-/// s K sᵀ for a symmetric 3 × 3 K (column-major).
-#[inline(always)]
-fn quadratic_3(k: &[f64], s: &[f64]) -> f64 {
-    let (k, s) = (&k[..9], &s[..3]);
-    let ks = [
-        k[0] * s[0] + k[3] * s[1] + k[6] * s[2],
-        k[1] * s[0] + k[4] * s[1] + k[7] * s[2],
-        k[2] * s[0] + k[5] * s[1] + k[8] * s[2],
-    ];
-    s[0] * ks[0] + s[1] * ks[1] + s[2] * ks[2]
 }
 
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).
