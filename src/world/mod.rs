@@ -56,11 +56,14 @@ pub struct Settings {
     /// Factorize every cluster, single bodies included, with the sparse Cholesky instead of
     /// the closed-form body inverse: a reference check of the sparse path.
     pub sparse_only: bool,
+    /// Factor on the VI tolerances of a cold step, one whose contacts all start from zero force
+    /// (math note §10.11); 1 turns the rule off.
+    pub cold_tightening: f64,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { share_cohesion: true, jacobi: true, sparse_only: false }
+        Settings { share_cohesion: true, jacobi: true, sparse_only: false, cold_tightening: 1e-2 }
     }
 }
 

@@ -13,6 +13,10 @@ use std::time::Instant;
 /// reached in two or three.
 const MAX_REFINEMENTS: usize = 4;
 
+/// The iteration budget of a cold step's continuation (math note §10.11) is the first solve's
+/// count, and at least this.
+const MIN_CONTINUATION: usize = 50;
+
 /// Contact states after a solve 1.
 pub(super) struct Classified {
     /// Gaps G(z1) = q + W z1 at the end of the step.
@@ -53,7 +57,10 @@ pub(super) struct SolveTimes {
 
 /// Runs the VI solves of one step and accumulates their report and warnings.
 struct Runner<'a> {
+    /// The scene's options.
     opts: vi::Options,
+    /// On a cold step, the factor on the tolerances of each solve's continuation (§10.11).
+    tighten: Option<f64>,
     step: usize,
     report: vi::Report,
     warnings: Vec<Warning>,
@@ -77,10 +84,10 @@ impl Runner<'_> {
         let rule = world.bounds(laws);
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
         self.pipeline.vi.method = world.model.solver.method;
-        let r = self.pipeline.vi.solve(&problem, &rule, z, &self.opts);
+        let (r, last) = self.solve_vi(&problem, &rule, z);
         let mut gaps = None;
         if r.converged {
-            if !world.polish(rows, q, &rule, z) {
+            if !world.polish(rows, q, &rule, z) && last {
                 gaps = self.pipeline.vi.gaps(q);
             }
         } else {
@@ -93,6 +100,33 @@ impl Runner<'_> {
         self.report.converged &= r.converged;
         self.times.vi += started.elapsed().as_secs_f64();
         gaps
+    }
+
+    /// One VI solve with the scene's options; on a cold step, once it has converged, continued
+    /// from its answer to the tightened tolerances (math note §10.11) with at most as many
+    /// iterations again. A continuation that misses is dropped: z goes back to the first
+    /// answer, so the rule never changes whether a step converges. Returns the report (both
+    /// solves counted) and whether z is the solver's last answer (for [`vi::Solver::gaps`]).
+    fn solve_vi(&mut self, problem: &Problem, rule: &dyn vi::BoundRule, z: &mut [f64]) -> (vi::Report, bool) {
+        let first = self.pipeline.vi.solve(problem, rule, z, &self.opts);
+        let Some(factor) = self.tighten.filter(|_| first.converged) else { return (first, true) };
+        let answer = z.to_vec();
+        let tight = vi::Options {
+            tolerance: self.opts.tolerance * factor,
+            gap_tolerance: self.opts.gap_tolerance * factor,
+            max_iterations: first.inner_iterations.max(MIN_CONTINUATION),
+            ..self.opts
+        };
+        let more = self.pipeline.vi.solve(problem, rule, z, &tight);
+        let report = vi::Report {
+            outer_iterations: first.outer_iterations + more.outer_iterations,
+            inner_iterations: first.inner_iterations + more.inner_iterations,
+            ..if more.converged { more } else { first }
+        };
+        if !more.converged {
+            z.copy_from_slice(&answer);
+        }
+        (report, more.converged)
     }
 
     /// Builds rows with the pipeline's storage, timing it.
@@ -132,6 +166,7 @@ impl World {
     /// solve 2 with g0 dropped for the contacts closed in solve 1 (velocity), skipped when
     /// those g0 are all zero to within the allowance (math note §1.3 a, d; §10.5).
     pub(super) fn solve(&self, contacts: &[Contact], df: &[f64], pipeline: &mut Pipeline) -> Solved {
+        let mut z1 = warm_start(contacts);
         let opts = vi::Options {
             tolerance: self.model.solver.tolerance,
             max_iterations: self.model.solver.max_iterations,
@@ -140,17 +175,20 @@ impl World {
             gap_tolerance: self.model.solver.tolerance * self.feature,
             force_scale: self.force_scale(),
         };
+        // a cold step (math note §10.11): its error becomes the motion later steps inherit
+        let factor = self.settings.cold_tightening;
+        let tighten = (factor < 1.0 && z1.iter().all(|&x| x == 0.0)).then_some(factor);
         let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
         let report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         let mut runner = Runner {
             opts,
+            tighten,
             step: self.step_index + 1,
             report,
             warnings: Vec::new(),
             pipeline,
             times: SolveTimes::default(),
         };
-        let mut z1 = warm_start(contacts);
         let mut lin: Vec<Linearization> = contacts.iter().map(Linearization::initial).collect();
         let mut refinements = 0;
         // the rows of the last solve 1, and the linearization a further refinement gave

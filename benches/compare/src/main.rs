@@ -12,8 +12,8 @@
 //! * rapier at its defaults (4 solver iterations, 30 Hz contacts) and at high accuracy (256
 //!   iterations, contacts at 1e4 Hz).
 //!
-//! `cargo run --release [-- 10000]` (also the 10 000 pile: MPRGP only, against its own forces
-//! at tolerance 1e-10; PC and NSGS take minutes per step there).
+//! `cargo run --release [-- 10000] [40000]` (also the 10,000 and 40,000 piles: MPRGP only,
+//! against its own forces at tolerance 1e-10; PC and NSGS take minutes per step there).
 
 use pbdda::generate::DiskPile;
 use pbdda::vi::Method;
@@ -163,10 +163,14 @@ fn error(a: &Pairs, reference: &Pairs) -> f64 {
 }
 
 fn main() {
-    let big = std::env::args().any(|a| a == "10000");
+    let args: Vec<String> = std::env::args().collect();
+    let has = |n: &str| args.iter().any(|a| a == n);
     let mut piles = vec![("1,000 disks", DiskPile::benchmark(40, 25))];
-    if big {
+    if has("10000") {
         piles.push(("10,000 disks", DiskPile::benchmark(100, 100)));
+    }
+    if has("40000") {
+        piles.push(("40,000 disks", DiskPile::benchmark(200, 200)));
     }
     println!(
         "| pile | engine | ms/step, mean of {STEPS} | ms/step, median of steps 2-{STEPS} | iterations/step | step-1 force error | sink [m] after {STEPS} steps |"
