@@ -263,15 +263,9 @@ impl World {
     /// note §10.5).
     fn classify(&self, contacts: &[Contact], rows: &Rows, z: &[f64], gaps: Option<Vec<f64>>) -> Classified {
         let gaps = gaps.unwrap_or_else(|| {
-            let mut gaps = rows.q.clone();
-            match rows.w.as_csr() {
-                Some(w) => sprs::prod::mul_acc_mat_vec_csr(w, z, &mut gaps[..]),
-                None => {
-                    let mut wz = vec![0.0; z.len()];
-                    rows.w.apply(z, &mut wz);
-                    gaps.iter_mut().zip(&wz).for_each(|(g, x)| *g += x);
-                }
-            }
+            let mut gaps = vec![0.0; z.len()];
+            rows.w.apply(z, &mut gaps);
+            gaps.iter_mut().zip(&rows.q).for_each(|(g, q)| *g += q);
             gaps
         });
         let touching = self.allowance;
