@@ -14,7 +14,8 @@ use std::time::Instant;
 const MAX_REFINEMENTS: usize = 4;
 
 /// The iteration budget of a cold step's continuation (math note §10.11) is the first solve's
-/// count, and at least this.
+/// count, and at least this: a floor chosen (not tuned) so that a first solve that needed no
+/// iteration still gets a budget.
 const MIN_CONTINUATION: usize = 50;
 
 /// Contact states after a solve 1.
