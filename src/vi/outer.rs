@@ -67,9 +67,17 @@ fn passes<R: Rows>(
             })
             .s0
         };
-        // Unchanged box and iterate: the last sweep is still valid.
+        // Unchanged box and iterate: the last sweep is still valid. A box that moved under an
+        // iterate that did not (on a warm start that needs no iteration, by rounding only: its
+        // friction bounds recomputed from the unscaled answer) needs the measurements again,
+        // not the product.
         let stale = !(nb.same && moved == 0.0 && st.fresh);
-        if stale && !pc::sweep(c, v, st) {
+        let ok = match (stale, moved == 0.0 && st.exact) {
+            (false, _) => true,
+            (true, true) => pc::remeasure(c, v, st),
+            (true, false) => pc::sweep(c, v, st),
+        };
+        if !ok {
             return Err(Status::NonFinite);
         }
         let limit = growth * p.dq.max(st.znorm).max(nb.bmax);

@@ -192,8 +192,23 @@ pub(super) fn project<R: Rows>(c: &Ctx<R>, v: &mut Vectors) {
 /// returns false when a NaN or infinity appeared in y or G(y).
 pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
     st.stats.products += 1;
+    measure_rows(c, v, st, true)
+}
+
+/// The sweep's measurements without its product, when `wy` already is the full product Ŵy of
+/// the current y (`st.exact`) and only the box changed: the same results as [`sweep`], bit for
+/// bit, without the product.
+pub(super) fn remeasure<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
+    debug_assert!(st.exact);
+    measure_rows(c, v, st, false)
+}
+
+/// The fused pass of [`sweep`]; `product` false reuses `wy`.
+fn measure_rows<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, product: bool) -> bool {
     let Vectors { y, wy, yt, lo, hi, ylo, yhi, tmp, parts, .. } = v;
-    c.rows.prepare(y, wy, tmp);
+    if product {
+        c.rows.prepare(y, wy, tmp);
+    }
     let (sc, gs, qs, dd, beta) = (c.sc, c.gs, c.qs, c.dd, st.beta);
     let pt = par::run2(c.par, wy, yt, parts, |r0, wo, to| {
         let mut pt = Partial::default();
@@ -201,7 +216,7 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
         for (k, (wk, tk)) in wo.iter_mut().zip(to.iter_mut()).enumerate() {
             let i = r0 + k;
             let yi = y[i];
-            let w = c.rows.row(i, y, *wk);
+            let w = if product { c.rows.row(i, y, *wk) } else { *wk };
             *wk = w;
             let f = qs[i] + w;
             let zi = unscale(yi, ylo[i], yhi[i], lo[i], hi[i], sc[i]);

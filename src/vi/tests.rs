@@ -209,6 +209,34 @@ fn warm_start_at_solution() {
     assert_eq!(z, vec![0.0, 1.5]);
 }
 
+/// A box that changes under a warm start it does not move: bounds [0, 10] at the rule's first
+/// call and [0, 11] after, around the solution (0, 1.5) of `warm_start_at_solution`. The first
+/// pass sweeps (one product) and finds no iteration needed; the second sees the box move by 1
+/// with the iterate unmoved and re-measures it without a product (outer pass 2); the third finds
+/// the box settled. Expected from the algorithm, for PC and MPRGP alike: products = 1, inner =
+/// 0, outer = 2, z unchanged bit for bit. (Re-sweeping instead would count 2 products.)
+#[test]
+fn moved_box_under_unmoved_iterate_costs_no_product() {
+    struct Growing(std::cell::Cell<usize>);
+    impl BoundRule for Growing {
+        fn block_bounds(&self, _k: usize, _z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+            self.0.set(self.0.get() + 1);
+            lo.fill(0.0);
+            hi.fill(if self.0.get() <= 2 { 10.0 } else { 11.0 });
+        }
+    }
+    let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
+    for method in [Method::Pc, Method::Mprgp] {
+        let mut ws = Solver::new().with_method(method);
+        let mut z = vec![0.0, 1.5];
+        let p = Problem { w: &w, q: &[1.0, -3.0], blocks: &singles(2) };
+        let rep = ws.solve(&p, &Growing(Default::default()), &mut z, &opts(1e-12, true));
+        let counts = (rep.outer_iterations, rep.inner_iterations, rep.converged, ws.stats().products);
+        assert_eq!(counts, (2, 0, true, 1), "{method:?}: {rep:?}");
+        assert_eq!(z, vec![0.0, 1.5]);
+    }
+}
+
 /// A zero row (W_jj = 0, hence the whole row is 0 for a PSD W) with q_j < 0 and no upper
 /// bound has no solution (G_j = q_j < 0 pushes z_j to +inf): reported as Diverged at
 /// once, with the warm start restored. With a finite upper bound it is solvable:
