@@ -192,7 +192,7 @@ pub(super) fn project<R: Rows>(c: &Ctx<R>, v: &mut Vectors) {
 /// returns false when a NaN or infinity appeared in y or G(y).
 pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
     st.stats.products += 1;
-    measure_rows(c, v, st, true)
+    measure_rows::<R, true>(c, v, st)
 }
 
 /// The sweep's measurements without its product, when `wy` already is the full product Ŵy of
@@ -200,13 +200,14 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
 /// bit, without the product.
 pub(super) fn remeasure<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
     debug_assert!(st.exact);
-    measure_rows(c, v, st, false)
+    measure_rows::<R, false>(c, v, st)
 }
 
-/// The fused pass of [`sweep`]; `product` false reuses `wy`.
-fn measure_rows<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, product: bool) -> bool {
+/// The fused pass of [`sweep`]; `PRODUCT` false reuses `wy` (a constant, so that the sweep's
+/// loop carries no branch for it).
+fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
     let Vectors { y, wy, yt, lo, hi, ylo, yhi, tmp, parts, .. } = v;
-    if product {
+    if PRODUCT {
         c.rows.prepare(y, wy, tmp);
     }
     let (sc, gs, qs, dd, beta) = (c.sc, c.gs, c.qs, c.dd, st.beta);
@@ -216,7 +217,7 @@ fn measure_rows<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, product: b
         for (k, (wk, tk)) in wo.iter_mut().zip(to.iter_mut()).enumerate() {
             let i = r0 + k;
             let yi = y[i];
-            let w = if product { c.rows.row(i, y, *wk) } else { *wk };
+            let w = if PRODUCT { c.rows.row(i, y, *wk) } else { *wk };
             *wk = w;
             let f = qs[i] + w;
             let zi = unscale(yi, ylo[i], yhi[i], lo[i], hi[i], sc[i]);
