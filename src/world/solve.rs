@@ -40,6 +40,10 @@ pub(super) struct Solved {
     pub z1: Vec<f64>,
     /// Forces of solve 2 (velocity; reported). Equal to z1 when solve 2 was skipped.
     pub z2: Vec<f64>,
+    /// K̃⁻¹ Bᵀ z1 over the rows of solve 1 (the response d^p of paper eq. 22).
+    pub dp1: Vec<f64>,
+    /// K̃⁻¹ Bᵀ z2 over the rows of solve 2, when solve 2 ran (else it is `dp1`).
+    pub dp2: Option<Vec<f64>>,
     pub state: Classified,
     pub report: vi::Report,
     pub warnings: Vec<Warning>,
@@ -192,38 +196,43 @@ impl World {
         };
         let mut lin: Vec<Linearization> = contacts.iter().map(Linearization::initial).collect();
         let mut refinements = 0;
-        // the rows of the last solve 1, and the linearization a further refinement gave
-        let (rows, state, last) = loop {
+        // the rows of the last solve 1, the linearization a further refinement gave, and the
+        // response to z1 when the last refinement computed it
+        let (rows, state, last, dp1) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
             let state = self.classify(contacts, &rows, &z1, gaps);
             if refinements == MAX_REFINEMENTS {
                 let last = rows.lin.clone();
-                break (rows, state, last);
+                break (rows, state, last, None);
             }
-            let dbar = self.geometry_increment(&rows, df, &z1, &state.impacting_rows);
+            let dp = self.response(&rows, &z1, |_| true);
+            let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state.impacting_rows);
             let (next, changed) =
                 self.refine(contacts, &rows.lin, &dbar, &state, &mut runner.pipeline.shapes);
             if !changed {
-                break (rows, state, next);
+                break (rows, state, next, Some(dp));
             }
             runner.pipeline.recycle(rows);
             lin = next;
             refinements += 1;
         };
         let rows2 = runner.rows(|a| self.impact_rows(contacts, last, &state, df, a));
+        let dp1 = dp1.unwrap_or_else(|| self.response(&rows, &z1, |_| true));
         let mut z2 = z1.clone();
+        let mut dp2 = None;
         if rows2.is_some() || self.needs_velocity_solve(contacts, &state) {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
             let q2 = velocity_gaps(contacts, &solve2.q, &state);
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity);
+            dp2 = Some(self.response(solve2, &z2, |_| true));
         }
         let mut diagonal = vec![0.0; rows.q.len()];
         rows.w.diagonal(&mut diagonal);
         let w_diag_max = diagonal.iter().fold(0.0f64, |m, x| m.max(*x));
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
-        Solved { laws, rows, rows2, z1, z2, state, report, warnings, w_diag_max, times }
+        Solved { laws, rows, rows2, z1, z2, dp1, dp2, state, report, warnings, w_diag_max, times }
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact
@@ -301,16 +310,17 @@ impl World {
     }
 
     /// d̄ = d^f + K̃⁻¹ Bᵀ z + K̃⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
-    /// contacts' share doubled (math note §1.3 c), as a global DOF vector.
+    /// contacts' share doubled (math note §1.3 c), as a global DOF vector, from the response
+    /// `dp` = K̃⁻¹ Bᵀ z.
     pub(super) fn geometry_increment(
         &self,
         rows: &Rows,
         df: &[f64],
         z: &[f64],
+        dp: &[f64],
         impacting: &[bool],
     ) -> Vec<f64> {
-        let mut d = self.response(rows, z, |_| true);
-        d.iter_mut().zip(df).for_each(|(x, f)| *x += f);
+        let mut d: Vec<f64> = dp.iter().zip(df).map(|(x, f)| x + f).collect();
         if impacting.contains(&true) {
             let dimp = self.response(rows, z, |r| impacting[r]);
             d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);

@@ -15,8 +15,8 @@ pub(super) struct Motion {
 
 impl World {
     pub(super) fn motion(&self, df: &[f64], s: &Solved) -> Motion {
-        let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.state.impacting_rows);
-        let dp2 = self.response(s.rows2.as_ref().unwrap_or(&s.rows), &s.z2, |_| true);
+        let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.dp1, &s.state.impacting_rows);
+        let dp2 = s.dp2.as_ref().unwrap_or(&s.dp1);
         let dvel = (0..df.len()).map(|i| df[i] + dp2[i]).collect();
         Motion { dbar, dvel }
     }
