@@ -527,15 +527,10 @@ impl Solver {
         let v = &mut self.vectors;
         let report = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
-            let bound = mprgp.then(|| mprgp::Bound::Gershgorin(rows.abs_row_sum_max()));
-            let c = pc::Ctx::new(rows, s, par, correction, measure);
-            outer_run(c, &pass, v, &mut st, z, bound, mprgp)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, mprgp)
         } else {
-            // ‖Ŵ‖ <= max_r of the operator's row bounds of Ŵ = S W S
-            let bound = (mprgp && p.w.row_bounds(&s.sc, &mut v.tmp))
-                .then(|| mprgp::Bound::Operator(v.tmp.iter().copied().fold(0.0, f64::max)));
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, bound, mprgp)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, mprgp)
         };
         self.stats = st.stats;
         self.exact = report.converged && st.exact;
@@ -548,19 +543,18 @@ impl Solver {
     }
 }
 
-/// The outer loop with PC, or with MPRGP passes (its step length from `bound`, else by power
-/// iteration).
+/// The outer loop with PC, or with MPRGP passes (their step length computed when first needed:
+/// `mprgp::StepLength`).
 fn outer_run<R: scaling::Rows>(
     mut c: pc::Ctx<R>,
     pass: &outer::Pass,
     v: &mut pc::Vectors,
     st: &mut pc::State,
     z: &mut [f64],
-    bound: Option<mprgp::Bound>,
     mprgp: bool,
 ) -> Report {
     if mprgp {
-        c.mprgp = Some(mprgp::step_length(&c, v, st, bound));
+        c.mprgp = Some(mprgp::StepLength::default());
     }
     outer::solve(&c, pass, v, st, z)
 }

@@ -94,7 +94,7 @@ fn passes<R: Rows>(
             return Err(Status::OuterLimit);
         }
         st.outer += 1;
-        match c.mprgp {
+        match &c.mprgp {
             Some(abar) => super::mprgp::run(c, v, st, inner_tol, limit, p.opts.max_iterations, abar)?,
             None => pc::run(c, v, st, inner_tol, limit, p.opts.max_iterations)?,
         }

@@ -30,7 +30,7 @@ pub(super) struct Ctx<'a, R: Rows> {
     /// Rows of W that are entirely zero.
     pub zero_rows: &'a [usize],
     /// Inner solver of the passes: PC, or MPRGP with its step length ᾱ (`mprgp.rs`).
-    pub mprgp: Option<f64>,
+    pub mprgp: Option<super::mprgp::StepLength>,
 }
 
 impl<'a, R: Rows> Ctx<'a, R> {

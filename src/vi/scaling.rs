@@ -138,6 +138,8 @@ pub(super) trait Rows: Sync + Copy {
     fn row(&self, i: usize, x: &[f64], prepared: f64) -> f64;
     /// Ŵ's entries in the kept rows and columns ([`Operator::entries`]); false when W has none.
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool;
+    /// An upper bound of ||Ŵ|| for MPRGP's step length, when one is at hand (`tmp`: scratch).
+    fn norm_bound(&self, tmp: &mut [f64]) -> Option<super::mprgp::Bound>;
 }
 
 /// Read-only view of the scaled CSR copy.
@@ -148,17 +150,15 @@ pub(super) struct Csr<'a> {
     pub vals: &'a [f64],
 }
 
-impl Csr<'_> {
-    /// Gershgorin's bound of ||Ŵ||: max_i Σ_j |Ŵ_ij|.
-    pub fn abs_row_sum_max(&self) -> f64 {
-        self.rowptr
-            .windows(2)
-            .map(|r| self.vals[r[0]..r[1]].iter().map(|v| v.abs()).sum::<f64>())
-            .fold(0.0, f64::max)
-    }
-}
-
 impl Rows for Csr<'_> {
+    /// Gershgorin's bound: max_i Σ_j |Ŵ_ij|.
+    fn norm_bound(&self, _tmp: &mut [f64]) -> Option<super::mprgp::Bound> {
+        let rows = self.rowptr.windows(2);
+        let max =
+            rows.map(|r| self.vals[r[0]..r[1]].iter().map(|v| v.abs()).sum::<f64>()).fold(0.0, f64::max);
+        Some(super::mprgp::Bound::Gershgorin(max))
+    }
+
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
         for (i, r) in self.rowptr.windows(2).enumerate().filter(|(i, _)| keep[*i]) {
             for (&j, &v) in self.cols[r[0]..r[1]].iter().zip(&self.vals[r[0]..r[1]]) {
@@ -197,6 +197,13 @@ pub(super) struct Scaled<'a> {
 }
 
 impl Rows for Scaled<'_> {
+    /// ‖Ŵ‖ <= max_r of the operator's row bounds of Ŵ = S W S (none with factored clusters).
+    fn norm_bound(&self, tmp: &mut [f64]) -> Option<super::mprgp::Bound> {
+        self.w
+            .row_bounds(self.sc, tmp)
+            .then(|| super::mprgp::Bound::Operator(tmp.iter().copied().fold(0.0, f64::max)))
+    }
+
     fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]) {
         for ((t, &xi), &s) in tmp.iter_mut().zip(x).zip(self.sc) {
             *t = s * xi;
