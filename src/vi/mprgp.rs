@@ -81,10 +81,7 @@ pub(super) struct StepLength(std::sync::OnceLock<f64>);
 
 impl StepLength {
     fn get<R: Rows>(&self, c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> f64 {
-        *self.0.get_or_init(|| {
-            let bound = c.rows.norm_bound(&mut v.tmp);
-            step_length(c, v, st, bound)
-        })
+        *self.0.get_or_init(|| step_length(c, v, st))
     }
 }
 
@@ -175,16 +172,16 @@ pub(super) fn run<R: Rows>(
     max_iterations: usize,
     step_length: &StepLength,
 ) -> Result<(), Status> {
-    let mut since_refresh = 0;
-    let mut cg = false; // p is a CG direction (else it is reset to φ)
-    let first = face::first(v.y.len(), st.res, inner_tol);
-    let (mut next_face, mut interval, mut regularize) = (st.inner + first, face::EVERY, false);
     // The sweep before a run has measured y (the contract above): a start that meets the
     // tolerance stops here, without ᾱ.
     if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
         return end;
     }
     let abar = step_length.get(c, v, st);
+    let mut since_refresh = 0;
+    let mut cg = false; // p is a CG direction (else it is reset to φ)
+    let first = face::first(v.y.len(), st.res, inner_tol);
+    let (mut next_face, mut interval, mut regularize) = (st.inner + first, face::EVERY, false);
     loop {
         let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
         if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
@@ -258,13 +255,13 @@ pub(super) fn run<R: Rows>(
     }
 }
 
-/// ᾱ, the expansion step length, below 2/||Ŵ|| as the method needs: from a `bound` >= ||Ŵ||
-/// (see the constants); without one (an operator with factored clusters), 1 / λ, λ the estimate
-/// of ||Ŵ|| by 10 power iterations from the all-ones vector (an estimate from below, safe while
-/// it is above ||Ŵ|| / 2, which 10 iterations reach on W's of contact networks: λ = 3.99998
-/// on the 1 000-disk pile, whose Gershgorin bound is 6).
-fn step_length<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, bound: Option<Bound>) -> f64 {
-    let from_bound = bound.map(|b| match b {
+/// ᾱ, the expansion step length, below 2/||Ŵ|| as the method needs: from the bound >= ||Ŵ||
+/// of `Rows::norm_bound` (see the constants); without one (an operator with factored
+/// clusters), 1 / λ, λ the estimate of ||Ŵ|| by 10 power iterations from the all-ones vector
+/// (an estimate from below, safe while it is above ||Ŵ|| / 2, which 10 iterations reach on W's
+/// of contact networks: λ = 3.99998 on the 1 000-disk pile, whose Gershgorin bound is 6).
+fn step_length<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> f64 {
+    let from_bound = c.rows.norm_bound(&mut v.tmp).map(|b| match b {
         Bound::Gershgorin(g) => (ABAR_GERSHGORIN, g),
         Bound::Operator(b) => (ABAR_OPERATOR, b),
     });

@@ -251,3 +251,19 @@ fn gaps_come_from_the_last_product() {
         }
     }
 }
+
+/// MPRGP's step length is computed only when a pass iterates (`mprgp::StepLength`). A
+/// matrix-free W without row bounds gets it by 10 power iterations, each one product. From the
+/// solution (0, 3/2) of `two_by_two_active_set` a solve needs one sweep (one product) and no
+/// iteration, so exactly 1 product; computing ᾱ up front would count 11.
+#[test]
+fn step_length_only_when_a_pass_iterates() {
+    let w = MatrixFree(csr(2, &[2.0, 1.0, 1.0, 2.0]));
+    let rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+    let p = Problem { w: &w, q: &[1.0, -3.0], blocks: &singles(2) };
+    let mut ws = mprgp();
+    let mut z = vec![0.0, 1.5];
+    let rep = ws.solve(&p, &rule, &mut z, &opts(1e-12, true));
+    assert_eq!((rep.inner_iterations, rep.converged, ws.stats().products), (0, true, 1), "{rep:?}");
+    assert_eq!(z, vec![0.0, 1.5]);
+}
