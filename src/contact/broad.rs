@@ -28,14 +28,69 @@ pub fn body_aabb(shape: &BodyShape) -> Aabb {
 /// Pairs `(i, j)`, `i < j`, sorted, of bodies whose boxes inflated by `threshold / 2` (d0 in
 /// the paper) overlap ([`Aabb::overlaps`]), except pairs of two fixed bodies.
 pub fn candidate_pairs(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<(usize, usize)> {
+    overlapping(&boxes(shapes, threshold), fixed)
+}
+
+/// The bodies' boxes inflated by `threshold / 2`.
+fn boxes(shapes: &[BodyShape], threshold: f64) -> Vec<Aabb> {
     let half = 0.5 * threshold.max(0.0);
-    let boxes: Vec<Aabb> = shapes.iter().map(|s| body_aabb(s).inflated(half)).collect();
+    shapes.iter().map(|s| body_aabb(s).inflated(half)).collect()
+}
+
+/// [`candidate_pairs`] kept between steps (a Verlet list of boxes; math note §5, "Pairs kept
+/// between steps"). The pairs are found once for boxes grown by a margin; while every body's
+/// box stays inside its grown box, the pairs of the current boxes are among them, and a
+/// filter of the kept pairs by overlap gives exactly [`candidate_pairs`]'s answer (same pairs,
+/// same order) for O(N) work instead of the sweep.
+#[derive(Debug, Clone, Default)]
+pub struct PairCache {
+    /// The grown boxes the pairs were found for, and the fixed flags they assumed.
+    grown: Vec<Aabb>,
+    fixed: Vec<bool>,
+    /// Pairs of overlapping grown boxes, sorted.
+    pairs: Vec<(usize, usize)>,
+}
+
+/// The margin by which [`PairCache`] grows the boxes, as a fraction of their median extent: a
+/// body moves this far before the sweep runs again. A twentieth of a disk's diameter adds no
+/// pairs in a packing of equal disks (the next neighbours are 0.73 radii apart).
+const MARGIN: f64 = 0.05;
+
+impl PairCache {
+    /// [`candidate_pairs`]`(shapes, fixed, threshold)`, from the kept pairs when they still
+    /// cover it.
+    pub fn candidate_pairs(
+        &mut self,
+        shapes: &[BodyShape],
+        fixed: &[bool],
+        threshold: f64,
+    ) -> Vec<(usize, usize)> {
+        let boxes = boxes(shapes, threshold);
+        let inside = |(b, g): (&Aabb, &Aabb)| {
+            g.min.x <= b.min.x && g.min.y <= b.min.y && b.max.x <= g.max.x && b.max.y <= g.max.y
+        };
+        let covered = self.grown.len() == boxes.len()
+            && self.fixed.as_slice() == fixed
+            && boxes.iter().zip(&self.grown).all(inside);
+        if !covered {
+            let margin = if boxes.is_empty() { 0.0 } else { MARGIN * median_extent(&boxes, 0) };
+            self.grown = boxes.iter().map(|b| b.inflated(margin)).collect();
+            self.fixed = fixed.to_vec();
+            self.pairs = overlapping(&self.grown, fixed);
+        }
+        self.pairs.iter().copied().filter(|&(i, j)| boxes[i].overlaps(&boxes[j])).collect()
+    }
+}
+
+/// Pairs `(i, j)`, `i < j`, sorted, of overlapping boxes, except pairs of two fixed bodies.
+fn overlapping(boxes: &[Aabb], fixed: &[bool]) -> Vec<(usize, usize)> {
     if boxes.is_empty() {
         return Vec::new();
     }
-    let mut strips = Strips::new(&boxes);
-    let entries = strips.entries(&boxes, fixed);
-    let mut pairs: Vec<u64> = Vec::new();
+    let mut strips = Strips::new(boxes);
+    let entries = strips.entries(boxes, fixed);
+    // a packing of disks has at most three pairs per body (six neighbours each)
+    let mut pairs: Vec<u64> = Vec::with_capacity(3 * boxes.len());
     for (s, w) in strips.offsets.windows(2).enumerate() {
         sweep(&strips, s, &entries[w[0]..w[1]], &mut pairs);
     }
@@ -175,6 +230,14 @@ mod tests {
         pairs
     }
 
+    /// Moves a body by `d`.
+    fn shift(shape: &mut BodyShape, d: Vec2) {
+        match shape {
+            BodyShape::Disk { center, .. } | BodyShape::Ring { center, .. } => *center += d,
+            BodyShape::Polygon { vertices, .. } => vertices.iter_mut().for_each(|v| *v += d),
+        }
+    }
+
     /// A random body: a disk or a ring (radius 0.05-1) or a convex-ish polygon (3-7 vertices
     /// on a circle of radius 0.1-2), centred in [0, 20]² — or, with `column`, in [0,1]×[0,60].
     fn body(column: bool) -> impl Strategy<Value = (BodyShape, bool)> {
@@ -225,6 +288,34 @@ mod tests {
         ) {
             let (shapes, fixed): (Vec<_>, Vec<_>) = bodies.into_iter().unzip();
             prop_assert_eq!(candidate_pairs(&shapes, &fixed, threshold), brute_force(&shapes, &fixed, threshold));
+        }
+
+        /// The kept pairs give the sweep's answer at every step of a random walk: small moves
+        /// (kept pairs reused), large ones (swept again), a changing threshold and a body
+        /// changing between fixed and free.
+        #[test]
+        fn kept_pairs_match_the_sweep(
+            bodies in prop::collection::vec(body(false), 1..60),
+            walk in prop::collection::vec((0.0..0.5f64, 0.0..0.5f64, 0u8..8, 0.0..1.0f64), 1..12),
+        ) {
+            let (mut shapes, mut fixed): (Vec<_>, Vec<_>) = bodies.into_iter().unzip();
+            let mut cache = PairCache::default();
+            for (k, &(threshold, size, big, frac)) in walk.iter().enumerate() {
+                // a small step most of the time, a large one for big == 0
+                let step = if big == 0 { 2.0 * size } else { 1e-3 * size };
+                for (i, s) in shapes.iter_mut().enumerate() {
+                    let angle = 2.4 * (i + 7 * k) as f64 + frac;
+                    shift(s, step * Vec2::new(angle.cos(), angle.sin()));
+                }
+                if big == 1 {
+                    let i = (frac * fixed.len() as f64) as usize % fixed.len();
+                    fixed[i] = !fixed[i];
+                }
+                prop_assert_eq!(
+                    cache.candidate_pairs(&shapes, &fixed, threshold),
+                    candidate_pairs(&shapes, &fixed, threshold)
+                );
+            }
         }
 
         /// Every pair of disks with surface distance below the threshold is a candidate

@@ -154,9 +154,19 @@ pub fn detect(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<Conta
 /// edge of a body thinner than that is on the body's far side, and its contact, opposite to
 /// the near side's, would make the VI unbounded).
 pub fn detect_reaching(shapes: &[BodyShape], fixed: &[bool], reach: f64, depth: f64) -> Vec<ContactGeom> {
-    let pairs = broad::candidate_pairs(shapes, fixed, reach);
+    detect_in(shapes, broad::candidate_pairs(shapes, fixed, reach), reach, depth)
+}
+
+/// [`detect_reaching`] over the candidate pairs of `reach` (from [`broad::candidate_pairs`] or
+/// a [`broad::PairCache`]).
+pub fn detect_in(
+    shapes: &[BodyShape],
+    pairs: Vec<(usize, usize)>,
+    reach: f64,
+    depth: f64,
+) -> Vec<ContactGeom> {
     let tol = narrow::Tolerances::new(reach).with_depth(depth);
-    let mut out = Vec::new();
+    let mut out = Vec::with_capacity(pairs.len());
     for (i, j) in pairs {
         narrow::pair_contacts_with(i, j, &shapes[i], &shapes[j], &tol, &mut out);
     }

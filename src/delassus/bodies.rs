@@ -63,6 +63,13 @@ impl BodyPart {
     ) -> Self {
         let mut part = BodyPart { offset: vec![0], packed: vec![0], ..Default::default() };
         let mut compact = vec![usize::MAX; body.len()];
+        let ns = || (0..body.len()).filter(|&c| body[c]).map(|c| map.cluster_range(c).len());
+        let (count, squares) = (ns().count(), ns().map(|n| n * n).sum());
+        part.kinv.reserve(squares);
+        part.root.reserve(squares);
+        part.square.reserve(count);
+        part.offset.reserve(count);
+        part.packed.reserve(count);
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
             if let (Some(k), Some(r)) = (flex.body_inverse(c), flex.body_root(c)) {
                 let n = map.cluster_range(c).len();

@@ -1,9 +1,10 @@
 //! Stage 2: contacts within the threshold, with their laws and memory (math note §5, §4).
 
 use super::World;
+use crate::contact::broad::PairCache;
 use crate::contact::law::Law;
 use crate::contact::set::{ContactMemory, Memory, joint_partners};
-use crate::contact::{ContactGeom, ContactKind, detect, detect_reaching};
+use crate::contact::{ContactGeom, ContactKind, detect, detect_in};
 
 /// A detected contact: geometry, law and what it remembers from the last step. Immutable
 /// once detected; the solve stages linearize it (see `rows.rs`).
@@ -20,12 +21,14 @@ impl World {
     /// Contacts within the threshold, enlarged when the predicted motion of this step needs
     /// it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA), with their laws and VI row
     /// layout; and the threshold used.
-    pub(super) fn detect(&self, df: &[f64]) -> (Vec<Contact>, f64) {
+    pub(super) fn detect(&self, df: &[f64], cache: &mut PairCache) -> (Vec<Contact>, f64) {
         let u_max = (0..self.bodies.len())
             .map(|b| self.bodies[b].max_motion(&df[self.dofs.range(b)]))
             .fold(0.0, f64::max);
         let threshold = self.threshold.max(2.5 * u_max);
-        let mut geoms = detect_reaching(&self.shapes(), &self.fixed(), threshold, self.threshold);
+        let shapes = self.shapes();
+        let pairs = cache.candidate_pairs(&shapes, &self.fixed(), threshold);
+        let mut geoms = detect_in(&shapes, pairs, threshold, self.threshold);
         let meshes: Vec<bool> = self.bodies.iter().map(|b| b.mesh.is_some()).collect();
         crate::contact::label_mesh_kinds(&mut geoms, &meshes);
         let partners = joint_partners(&geoms);

@@ -83,6 +83,8 @@ pub struct Pipeline {
     rows: rows::Scratch,
     /// The refinement's shape buffers.
     shapes: refine::Shapes,
+    /// The broad phase's pairs, kept while the bodies stay inside their grown boxes.
+    pairs: crate::contact::broad::PairCache,
 }
 
 impl Pipeline {
@@ -252,9 +254,9 @@ impl World {
                 .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
             let df = self.predict(t1);
             stages.predict += clock.lap();
-            let (contacts, threshold) = self.detect(&df);
-            stages.detect += clock.lap();
             let mut pipeline = std::mem::take(&mut self.pipeline);
+            let (contacts, threshold) = self.detect(&df, &mut pipeline.pairs);
+            stages.detect += clock.lap();
             let solved = self.solve(&contacts, &df, &mut pipeline);
             self.pipeline = pipeline;
             stages.rows += solved.times.rows;
