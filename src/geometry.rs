@@ -288,6 +288,10 @@ impl Aabb {
     pub fn overlaps(&self, o: &Aabb) -> bool {
         self.min.x <= o.max.x && o.min.x <= self.max.x && self.min.y <= o.max.y && o.min.y <= self.max.y
     }
+    /// Whether `o` lies inside this box (boundary included).
+    pub fn contains(&self, o: &Aabb) -> bool {
+        self.min.x <= o.min.x && self.min.y <= o.min.y && o.max.x <= self.max.x && o.max.y <= self.max.y
+    }
 }
 
 #[cfg(test)]

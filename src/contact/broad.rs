@@ -66,12 +66,9 @@ impl PairCache {
         threshold: f64,
     ) -> Vec<(usize, usize)> {
         let boxes = boxes(shapes, threshold);
-        let inside = |(b, g): (&Aabb, &Aabb)| {
-            g.min.x <= b.min.x && g.min.y <= b.min.y && b.max.x <= g.max.x && b.max.y <= g.max.y
-        };
         let covered = self.grown.len() == boxes.len()
             && self.fixed.as_slice() == fixed
-            && boxes.iter().zip(&self.grown).all(inside);
+            && boxes.iter().zip(&self.grown).all(|(b, g)| g.contains(b));
         if !covered {
             let margin = if boxes.is_empty() { 0.0 } else { MARGIN * median_extent(&boxes, 0) };
             self.grown = boxes.iter().map(|b| b.inflated(margin)).collect();
@@ -339,6 +336,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The kept pairs are reused, not swept again, while the bodies stay inside their grown
+    /// boxes: two disks of radius 1 with threshold 0.1 have boxes 2.1 wide, grown by 0.05 × 2.1
+    /// = 0.105. A move of 0.1 keeps the grown boxes (and the pair); a move to 0.3 leaves them,
+    /// and the sweep grows new ones.
+    #[test]
+    fn small_moves_reuse_the_kept_pairs() {
+        let d = |x: f64| BodyShape::Disk { center: Vec2::new(x, 0.0), radius: 1.0 };
+        let mut cache = PairCache::default();
+        assert_eq!(cache.candidate_pairs(&[d(0.0), d(2.05)], &[false, false], 0.1), vec![(0, 1)]);
+        let grown = cache.grown.clone();
+        assert_eq!(cache.candidate_pairs(&[d(0.1), d(2.05)], &[false, false], 0.1), vec![(0, 1)]);
+        assert_eq!(cache.grown, grown, "a move of 0.1 swept again");
+        assert_eq!(cache.candidate_pairs(&[d(0.3), d(2.05)], &[false, false], 0.1), vec![(0, 1)]);
+        assert_ne!(cache.grown, grown, "a move of 0.3 kept boxes it left");
     }
 
     /// Two touching fixed bodies are no candidate pair; a free body touching both gives two.

@@ -211,11 +211,11 @@ fn warm_start_at_solution() {
 
 /// A box that changes under a warm start it does not move: bounds [0, 10] in the first pass (the
 /// rule's first two calls, one per block) and [0, 11] after, around the solution (0, 1.5) of
-/// `warm_start_at_solution`. The first
-/// pass sweeps (one product) and finds no iteration needed; the second sees the box move by 1
-/// with the iterate unmoved and re-measures it without a product (outer pass 2); the third finds
-/// the box settled. Expected from the algorithm, for PC and MPRGP alike: products = 1, inner =
-/// 0, outer = 2, z unchanged bit for bit. (Re-sweeping instead would count 2 products.)
+/// `warm_start_at_solution`. The first pass sweeps (one product) and finds no iteration needed;
+/// the second sees the box move by 1 with the iterate unmoved and re-measures it without a
+/// product (outer pass 2); the third finds the box settled. Expected from the algorithm, for PC
+/// and MPRGP alike: products = 1, inner = 0, outer = 2, z unchanged bit for bit. (Re-sweeping
+/// instead would count 2 products.)
 #[test]
 fn moved_box_under_unmoved_iterate_costs_no_product() {
     struct Growing(std::cell::Cell<usize>);
