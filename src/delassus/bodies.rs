@@ -19,17 +19,38 @@ use crate::dofs::DofMap;
 use crate::jacobian::Jacobian;
 use std::sync::Mutex;
 
-/// One segment of B on a body-form cluster.
+/// One segment of B on a body-form cluster, in 20 bytes (usize fields took 40): the products
+/// stream over every segment several times a step, and from about 10,000 disks the segments
+/// no longer fit the caches (math note §3.3). u32 indices hold every problem that fits in
+/// memory: 2³² segments would take 86 GB, 2³² values 34 GB.
 #[derive(Debug, Clone, Copy)]
 struct Seg {
-    row: usize,
+    row: u32,
     /// Its body (compact index).
-    body: usize,
+    body: u32,
     /// Its first DOF in the compact body vectors (the body's offset + the local DOF).
-    at: usize,
+    at: u32,
     /// Its range of `vals`.
-    val: usize,
-    len: usize,
+    val: u32,
+    len: u32,
+}
+
+impl Seg {
+    fn row(&self) -> usize {
+        self.row as usize
+    }
+    fn body(&self) -> usize {
+        self.body as usize
+    }
+    fn at(&self) -> usize {
+        self.at as usize
+    }
+    fn val(&self) -> usize {
+        self.val as usize
+    }
+    fn len(&self) -> usize {
+        self.len as usize
+    }
 }
 
 /// The body-form clusters' part of W (see the module docs).
@@ -86,7 +107,9 @@ impl BodyPart {
         for s in jac.segments.iter().filter(|s| compact[s.cluster] != usize::MAX) {
             let b = compact[s.cluster];
             let at = part.offset[b] + (s.start - map.cluster_range(s.cluster).start);
-            part.segs.push(Seg { row: s.row, body: b, at, val: part.vals.len(), len: s.len });
+            let (row, body, at, val, len) =
+                (s.row as u32, b as u32, at as u32, part.vals.len() as u32, s.len as u32);
+            part.segs.push(Seg { row, body, at, val, len });
             part.vals.extend_from_slice(&s.vals.as_slice()[..s.len]);
         }
         part.add_diagonal(jac.rows, diagonal);
@@ -103,7 +126,7 @@ impl BodyPart {
     }
 
     fn vals(&self, s: &Seg) -> &[f64] {
-        &self.vals[s.val..s.val + s.len]
+        &self.vals[s.val()..s.val() + s.len()]
     }
 
     /// out[..n_b] = K̃_b⁻¹ u[..n_b].
@@ -128,16 +151,16 @@ impl BodyPart {
 
     /// K̃_b⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
     fn column(&self, s: &Seg, u: &mut [f64], out: &mut [f64]) {
-        u[..self.n(s.body)].fill(0.0);
-        let local = s.at - self.offset[s.body];
-        u[local..local + s.len].copy_from_slice(self.vals(s));
-        self.solve(s.body, u, out);
+        u[..self.n(s.body())].fill(0.0);
+        let local = s.at() - self.offset[s.body()];
+        u[local..local + s.len()].copy_from_slice(self.vals(s));
+        self.solve(s.body(), u, out);
     }
 
     /// s · v over the segment's DOFs, v a body-local vector.
     fn dot(&self, s: &Seg, v: &[f64]) -> f64 {
-        let local = s.at - self.offset[s.body];
-        dot(self.vals(s), &v[local..local + s.len])
+        let local = s.at() - self.offset[s.body()];
+        dot(self.vals(s), &v[local..local + s.len()])
     }
 
     /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
@@ -147,25 +170,25 @@ impl BodyPart {
         let (mut last, mut prev) = (vec![NONE; rows], vec![NONE; self.segs.len()]);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for (i, s) in self.segs.iter().enumerate() {
-            let mut d = if s.len == 3 && self.n(s.body) == 3 {
+            let mut d = if s.len() == 3 && self.n(s.body()) == 3 {
                 // a rigid body's row (the segment covers the body's DOFs), unrolled
-                solve_n::<3>(&self.kinv[self.square[s.body]..], self.vals(s), &mut x);
+                solve_n::<3>(&self.kinv[self.square[s.body()]..], self.vals(s), &mut x);
                 dot_n::<3>(self.vals(s), &x)
             } else {
                 self.column(s, &mut u, &mut x);
                 self.dot(s, &x)
             };
-            let mut j = last[s.row];
+            let mut j = last[s.row()];
             while j != NONE {
                 let t = &self.segs[j];
-                if t.body == s.body {
+                if t.body() == s.body() {
                     self.column(s, &mut u, &mut x);
                     d += 2.0 * self.dot(t, &x);
                 }
                 j = prev[j];
             }
-            diagonal[s.row] += d;
-            (prev[i], last[s.row]) = (last[s.row], i);
+            diagonal[s.row()] += d;
+            (prev[i], last[s.row()]) = (last[s.row()], i);
         }
     }
 
@@ -178,10 +201,10 @@ impl BodyPart {
         work.resize(2 * n, 0.0);
         let (u, v) = work.split_at_mut(n);
         for s in &self.segs {
-            let (zr, vals) = (z[s.row], self.vals(s));
-            match s.len {
-                3 => axpy::<3>(zr, vals, &mut u[s.at..]),
-                len => u[s.at..s.at + len].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
+            let (zr, vals) = (z[s.row()], self.vals(s));
+            match s.len() {
+                3 => axpy::<3>(zr, vals, &mut u[s.at()..]),
+                len => u[s.at()..s.at() + len].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
             }
         }
         for b in 0..self.square.len() {
@@ -189,9 +212,9 @@ impl BodyPart {
             self.solve(b, &u[r.clone()], &mut v[r]);
         }
         for s in &self.segs {
-            out[s.row] += match s.len {
-                3 => dot_n::<3>(self.vals(s), &v[s.at..]),
-                len => dot(self.vals(s), &v[s.at..s.at + len]),
+            out[s.row()] += match s.len() {
+                3 => dot_n::<3>(self.vals(s), &v[s.at()..]),
+                len => dot(self.vals(s), &v[s.at()..s.at() + len]),
             };
         }
     }
@@ -200,14 +223,14 @@ impl BodyPart {
     /// rows are both kept: W_bodies entry by entry, duplicates to be summed.
     pub fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
         let bodies = self.square.len();
-        let (by_body, start) = group(self.segs.iter().map(|s| s.body), bodies);
+        let (by_body, start) = group(self.segs.iter().map(|s| s.body()), bodies);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for b in 0..bodies {
             let mine = &by_body[start[b]..start[b + 1]];
-            for s in mine.iter().map(|&i| &self.segs[i]).filter(|s| keep[s.row]) {
+            for s in mine.iter().map(|&i| &self.segs[i]).filter(|s| keep[s.row()]) {
                 self.column(s, &mut u, &mut x);
-                for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| keep[t.row]) {
-                    out.push((t.row, s.row, self.dot(t, &x)));
+                for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| keep[t.row()]) {
+                    out.push((t.row(), s.row(), self.dot(t, &x)));
                 }
             }
         }
@@ -227,10 +250,10 @@ impl BodyPart {
         work.resize(self.packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(self.packed[bodies]);
         for s in &self.segs {
-            let (b, w) = (s.body, sc[s.row] * sc[s.row]);
-            let (n, local, r) = (self.n(b), s.at - self.offset[b], &self.root[self.square[b]..]);
+            let (b, w) = (s.body(), sc[s.row()] * sc[s.row()]);
+            let (n, local, r) = (self.n(b), s.at() - self.offset[b], &self.root[self.square[b]..]);
             let mb = &mut m[self.packed[b]..self.packed[b + 1]];
-            if n == 3 && s.len == 3 {
+            if n == 3 && s.len() == 3 {
                 // a rigid body's row, unrolled: t = Rᵀ s, M += w t tᵀ. The same sums as the
                 // general loop below, which would cost 3.3 M more instructions of a 27.6 M warm
                 // step on the 1,000-disk pile (callgrind)
@@ -250,7 +273,7 @@ impl BodyPart {
             let mut t = [0.0; MAX_DOF];
             // t_j = Σ_i R_ij s_i (R column-major), then M += w t tᵀ (packed lower triangle)
             for (j, tj) in t[..n].iter_mut().enumerate() {
-                *tj = dot(&r[j * n + local..j * n + local + s.len], self.vals(s));
+                *tj = dot(&r[j * n + local..j * n + local + s.len()], self.vals(s));
             }
             let mut k = 0;
             for i in 0..n {
@@ -265,7 +288,7 @@ impl BodyPart {
             *l = largest_eigenvalue(&m[self.packed[b]..self.packed[b + 1]], self.n(b));
         }
         for s in &self.segs {
-            out[s.row] += lambda[s.body];
+            out[s.row()] += lambda[s.body()];
         }
     }
 }
