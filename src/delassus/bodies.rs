@@ -110,7 +110,11 @@ impl BodyPart {
             let (row, body, at, val, len) =
                 (s.row as u32, b as u32, at as u32, part.vals.len() as u32, s.len as u32);
             part.segs.push(Seg { row, body, at, val, len });
-            part.vals.extend_from_slice(&s.vals.as_slice()[..s.len]);
+            match s.len {
+                // a rigid body's segment: three stores, not a call to memcpy
+                3 => part.vals.extend([s.vals[0], s.vals[1], s.vals[2]]),
+                len => part.vals.extend_from_slice(&s.vals.as_slice()[..len]),
+            }
         }
         part.add_diagonal(jac.rows, diagonal);
         part
@@ -166,7 +170,8 @@ impl BodyPart {
     /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
     /// products with the earlier segments of its row on its body (found through a chain per row).
     fn add_diagonal(&self, rows: usize, diagonal: &mut [f64]) {
-        const NONE: usize = usize::MAX;
+        // u32 links, as in `Seg`: half the memory to clear each step
+        const NONE: u32 = u32::MAX;
         let (mut last, mut prev) = (vec![NONE; rows], vec![NONE; self.segs.len()]);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for (i, s) in self.segs.iter().enumerate() {
@@ -180,15 +185,15 @@ impl BodyPart {
             };
             let mut j = last[s.row()];
             while j != NONE {
-                let t = &self.segs[j];
+                let t = &self.segs[j as usize];
                 if t.body() == s.body() {
                     self.column(s, &mut u, &mut x);
                     d += 2.0 * self.dot(t, &x);
                 }
-                j = prev[j];
+                j = prev[j as usize];
             }
             diagonal[s.row()] += d;
-            (prev[i], last[s.row()]) = (last[s.row()], i);
+            (prev[i], last[s.row()]) = (last[s.row()], i as u32);
         }
     }
 
