@@ -102,6 +102,8 @@ impl BodyPart {
                 part.packed.push(part.packed[compact[c]] + n * (n + 1) / 2);
             }
         }
+        // the u32 indices of `Seg` and `add_diagonal` (see `Seg`)
+        debug_assert!(jac.rows < u32::MAX as usize && MAX_DOF * jac.segments.len() < u32::MAX as usize);
         part.segs.reserve(jac.segments.len());
         part.vals.reserve(3 * jac.segments.len());
         for s in jac.segments.iter().filter(|s| compact[s.cluster] != usize::MAX) {
