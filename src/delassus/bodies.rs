@@ -204,9 +204,10 @@ impl BodyPart {
         let n = self.offset[self.offset.len() - 1];
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
-        work.clear();
+        // u accumulates and starts at zero; v is written body by body over all of 0..n
         work.resize(2 * n, 0.0);
         let (u, v) = work.split_at_mut(n);
+        u.fill(0.0);
         for s in &self.segs {
             let (zr, vals) = (z[s.row()], self.vals(s));
             match s.len() {
