@@ -24,11 +24,12 @@ pub struct Segment {
 }
 
 impl Segment {
-    /// This segment's range of a global vector, padded to [`Dofs`].
-    pub fn gather(&self, v: &[f64]) -> Dofs {
-        let mut d = Dofs::zeros();
-        d.as_mut_slice()[..self.len].copy_from_slice(&v[self.start..self.start + self.len]);
-        d
+    /// The segment's entries dotted with its range of `v` (a global vector, or a cluster-local
+    /// one for segments with cluster-local starts). Over its own `len` entries, without padding
+    /// them to six through a copy: the padding's products are zeros, so the sum is the same.
+    pub fn dot(&self, v: &[f64]) -> f64 {
+        let vals = &self.vals.as_slice()[..self.len];
+        vals.iter().zip(&v[self.start..self.start + self.len]).map(|(a, b)| a * b).sum()
     }
 }
 
@@ -58,10 +59,7 @@ impl Jacobian {
         out.clear();
         out.resize(self.rows, 0.0);
         for s in &self.segments {
-            // the segment's own entries, without padding them to six (the padding's products
-            // are zeros: the same sum)
-            let vals = &s.vals.as_slice()[..s.len];
-            out[s.row] += vals.iter().zip(&v[s.start..s.start + s.len]).map(|(a, b)| a * b).sum::<f64>();
+            out[s.row] += s.dot(v);
         }
     }
 

@@ -254,9 +254,10 @@ impl BodyPart {
         let bodies = self.square.len();
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
-        work.clear();
+        // m accumulates and starts at zero; every body's λ is written below
         work.resize(self.packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(self.packed[bodies]);
+        m.fill(0.0);
         for s in &self.segs {
             let (b, w) = (s.body(), sc[s.row()] * sc[s.row()]);
             let (n, local, r) = (self.n(b), s.at() - self.offset[b], &self.root[self.square[b]..]);

@@ -166,7 +166,7 @@ impl Operator for ContactOperator {
             }
             f.solver.solve(&mut t);
             for s in &f.segments {
-                out[s.row] += s.vals.dot(&s.gather(&t));
+                out[s.row] += s.dot(&t);
             }
         }
     }
@@ -249,7 +249,7 @@ fn factored_parts(
                 }
             }
             part.solver.solve(&mut col);
-            diagonal[row] += part.segments[k..end].iter().map(|s| s.vals.dot(&s.gather(&col))).sum::<f64>();
+            diagonal[row] += part.segments[k..end].iter().map(|s| s.dot(&col)).sum::<f64>();
             k = end;
         }
     }
