@@ -382,9 +382,10 @@ impl Solver {
 
     /// G = q + W z at the z the last [`Self::solve`] returned, from the full product W z its
     /// last sweep made (W z = D^{1/2} Ŵ y), without a new product; `None` when there is no such
-    /// product: the solve did not converge, ran NSGS, or its answer moved after its last sweep
-    /// (an MPRGP step updates Ŵy along with y). `q` must be the problem's. Equal to q + W z up
-    /// to rounding: the returned z snaps rows at a bound to the bound exactly.
+    /// product: the solve did not converge, ran NSGS, or its answer moved by more than one
+    /// MPRGP step after its last sweep (a step updates Ŵy along with y; `pc::State::exact`).
+    /// `q` must be the problem's. Equal to q + W z up to rounding: the returned z snaps rows at
+    /// a bound to the bound exactly.
     pub fn gaps(&self, q: &[f64]) -> Option<Vec<f64>> {
         let (wy, sd) = (&self.vectors.wy, &self.scaling.sd);
         (self.exact && q.len() == wy.len() && q.len() == sd.len())

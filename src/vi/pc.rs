@@ -123,9 +123,14 @@ pub(super) struct State {
     pub ee: f64,
     /// A sweep has been made (its results above are those of the current y unless y moved).
     pub fresh: bool,
-    /// `wy` is a full product of the current y (the last change of y was followed by a sweep),
-    /// not one updated along with MPRGP's steps.
+    /// `wy` is Ŵy of the current y to the rounding of a full product: a sweep's product, or
+    /// one updated along with a single MPRGP step since (`stepped`). One update,
+    /// wy − α Ŵp with Ŵp itself a full product, adds the rounding of one more term to each
+    /// row's sum, inside the margin of the measure's round-off floor (`measure::ROUND`); more
+    /// updates accumulate, and MPRGP's own refresh bounds them only against drift.
     pub exact: bool,
+    /// y has moved by an MPRGP step since the last sweep.
+    pub stepped: bool,
     /// y lay outside the box at the last sweep (contraction step only).
     pub last_infeasible: bool,
     /// A valid box exists (from an earlier pass).
@@ -146,6 +151,7 @@ impl State {
             ee: 0.0,
             fresh: false,
             exact: false,
+            stepped: false,
             last_infeasible: false,
             have_prev: false,
             stats: Stats::default(),
@@ -195,9 +201,9 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
     measure_rows::<R, true>(c, v, st)
 }
 
-/// The sweep's measurements without its product, when `wy` already is the full product Ŵy of
-/// the current y (`st.exact`) and only the box changed: the same results as [`sweep`], bit for
-/// bit, without the product.
+/// The sweep's measurements without its product, when `wy` already is Ŵy of the current y
+/// (`st.exact`) and only the box changed: the results of [`sweep`] without its product (the
+/// same bit for bit when no MPRGP step updated `wy` since the last sweep).
 pub(super) fn remeasure<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
     debug_assert!(st.exact);
     measure_rows::<R, false>(c, v, st)
@@ -240,6 +246,7 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
     });
     st.fresh = true;
     st.exact = true;
+    st.stepped = false;
     st.last_infeasible = pt.s1 > 0.0;
     st.res = Measure::combine(pt.m0, pt.m2, pt.m1);
     st.znorm = pt.m1;
