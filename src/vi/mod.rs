@@ -322,6 +322,9 @@ pub struct Solver {
     stats: Stats,
     /// The last solve converged and its work vectors hold a full product of its answer.
     exact: bool,
+    /// The last MPRGP step length ᾱ a solve computed: the next solves' guess for their
+    /// proportioning test (`mprgp::StepLength`).
+    step_length: Option<f64>,
     nsgs: nsgs::Work,
     /// The caller's warm start, kept for the MPRGP guard.
     warm: Vec<f64>,
@@ -344,6 +347,7 @@ impl Solver {
             method: Method::Pc,
             stats: Stats::default(),
             exact: false,
+            step_length: None,
             nsgs: nsgs::Work::default(),
             warm: Vec::new(),
             scaling: scaling::Scaling::default(),
@@ -526,13 +530,17 @@ impl Solver {
         let correction = self.correction;
         let measure = measure::Measure::new(opts);
         let v = &mut self.vectors;
-        let report = if explicit {
+        let guess = mprgp.then_some(self.step_length);
+        let (report, known) = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, mprgp)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, guess)
         } else {
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, mprgp)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, guess)
         };
+        if known.is_some() {
+            self.step_length = known;
+        }
         self.stats = st.stats;
         self.exact = report.converged && st.exact;
         report
@@ -544,20 +552,20 @@ impl Solver {
     }
 }
 
-/// The outer loop with PC, or with MPRGP passes (their step length computed when first needed:
-/// `mprgp::StepLength`).
+/// The outer loop with PC, or with MPRGP passes (their step length computed when first needed,
+/// `guess` standing in for it until then: `mprgp::StepLength`). Returns the report and the step
+/// length a later solve may take as its guess.
 fn outer_run<R: scaling::Rows>(
     mut c: pc::Ctx<R>,
     pass: &outer::Pass,
     v: &mut pc::Vectors,
     st: &mut pc::State,
     z: &mut [f64],
-    mprgp: bool,
-) -> Report {
-    if mprgp {
-        c.mprgp = Some(mprgp::StepLength::default());
-    }
-    outer::solve(&c, pass, v, st, z)
+    mprgp: Option<Option<f64>>,
+) -> (Report, Option<f64>) {
+    c.mprgp = mprgp.map(mprgp::StepLength::new);
+    let report = outer::solve(&c, pass, v, st, z);
+    (report, c.mprgp.and_then(|s| s.known()))
 }
 
 /// Convenience for tests: a fresh [`Solver`] per call.

@@ -267,3 +267,26 @@ fn step_length_only_when_a_pass_iterates() {
     assert_eq!((rep.inner_iterations, rep.converged, ws.stats().products), (0, true, 1), "{rep:?}");
     assert_eq!(z, vec![0.0, 1.5]);
 }
+
+/// The bound of ‖Ŵ‖ is computed when a run first expands; until then the proportioning test
+/// takes the last step length the solver computed (`mprgp::StepLength`). `two_by_two_active_set`
+/// from z = (0, 0), Jacobi scaled (Ŵ = [[1, ½], [½, 1]], q̂ = (1, −3)/√2): row 0 sits at its
+/// bound with a positive gradient, row 1 at its bound with g = −3/√2, so the free gradient is
+/// zero and the first iteration is a proportioning step along β = (0, −3/√2). Its exact line
+/// search (α = 1, no upper bound to stop it) lands on y = (0, 3/√2), z = (0, 3/2): solved,
+/// without an expansion. Products: the first sweep, the step's, and for the first solve of a
+/// fresh solver the 10 power iterations of the matrix-free W's step length (it has no guess
+/// yet): 12. The second solve of the same problem takes the first one's ᾱ as its guess: 2.
+#[test]
+fn step_length_only_when_a_run_expands() {
+    let w = MatrixFree(csr(2, &[2.0, 1.0, 1.0, 2.0]));
+    let rule = FixedBounds { lo: vec![0.0, 0.0], hi: vec![INF, INF] };
+    let p = Problem { w: &w, q: &[1.0, -3.0], blocks: &singles(2) };
+    let mut ws = mprgp();
+    for want in [12, 2] {
+        let mut z = vec![0.0, 0.0];
+        let rep = ws.solve(&p, &rule, &mut z, &opts(1e-12, true));
+        assert_eq!((rep.inner_iterations, rep.converged, ws.stats().products), (1, true, want), "{rep:?}");
+        assert!(z[0] == 0.0 && (z[1] - 1.5).abs() < 1e-12, "{z:?}");
+    }
+}
