@@ -112,17 +112,26 @@ impl StepLength {
 }
 
 /// The state of y: residual (math note §4.3, as PC reports it) and ||z||_inf into `st`;
-/// returns (βᵀβ, φ̃ᵀφ) for the proportioning test, or None on a NaN.
-fn measure<R: Rows>(c: &Ctx<R>, v: &Vectors, st: &mut State, abar: f64) -> Option<(f64, f64)> {
+/// returns (βᵀβ, φ̃ᵀφ) for the proportioning test, or None on a NaN. Without `RESIDUAL`, only
+/// the pair: for a run's first iteration, whose start the sweep before it has measured (the
+/// contract of [`run`]) with the same sums, so `st` keeps them.
+fn measure<R: Rows, const RESIDUAL: bool>(
+    c: &Ctx<R>,
+    v: &Vectors,
+    st: &mut State,
+    abar: f64,
+) -> Option<(f64, f64)> {
     let (mut res, mut gap, mut zn, mut bb, mut ff, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0, 0.0, 0.0);
     for i in 0..v.y.len() {
         let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
         let g = c.qs[i] + v.wy[i];
-        let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
-        let (r, rg) = c.measure.row(z, c.gs[i] * g, v.lo[i], v.hi[i], c.dd[i]);
-        res = res.max(r);
-        gap = gap.max(rg);
-        zn = zn.max(z.abs());
+        if RESIDUAL {
+            let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
+            let (r, rg) = c.measure.row(z, c.gs[i] * g, v.lo[i], v.hi[i], c.dd[i]);
+            res = res.max(r);
+            gap = gap.max(rg);
+            zn = zn.max(z.abs());
+        }
         let b = chopped(y, lo, hi, g);
         bb += b * b;
         let f = free(y, lo, hi, g);
@@ -131,10 +140,12 @@ fn measure<R: Rows>(c: &Ctx<R>, v: &Vectors, st: &mut State, abar: f64) -> Optio
         ff += fr * f;
         bad += y * 0.0 + g * 0.0;
     }
-    st.res = Measure::combine(res, gap, zn);
-    st.znorm = zn;
-    st.fresh = true;
-    st.last_infeasible = false;
+    if RESIDUAL {
+        st.res = Measure::combine(res, gap, zn);
+        st.znorm = zn;
+        st.fresh = true;
+        st.last_infeasible = false;
+    }
     (bad == 0.0).then_some((bb, ff))
 }
 
@@ -210,11 +221,15 @@ pub(super) fn run<R: Rows>(
     let mut cg = false; // p is a CG direction (else it is reset to φ)
     let first = face::first(v.y.len(), st.res, inner_tol);
     let (mut next_face, mut interval, mut regularize) = (st.inner + first, face::EVERY, false);
+    let mut entry = true; // y as the sweep before the run measured it (and `stop` tested it)
     loop {
-        let Some((bb, ff)) = measure(c, v, st, abar) else { return Err(Status::NonFinite) };
-        if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+        let measured =
+            if entry { measure::<R, false>(c, v, st, abar) } else { measure::<R, true>(c, v, st, abar) };
+        let Some((bb, ff)) = measured else { return Err(Status::NonFinite) };
+        if !entry && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
             return end;
         }
+        entry = false;
         if st.inner >= next_face {
             // a slow run: the face's exact minimizer (math note §4.10)
             let outcome = face::solve(c, v, st, &mut regularize)?;
