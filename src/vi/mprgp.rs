@@ -81,9 +81,9 @@ fn chopped(y: f64, lo: f64, hi: f64, g: f64) -> f64 {
 /// without expanding thus skips the bound of ‖Ŵ‖ (1.9 M of the 23.4 M instructions of a warm
 /// step of the 1,000-disk pile, callgrind), as does a solve whose start already meets its
 /// tolerance (math note §4.8).
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(super) struct StepLength {
-    pub guess: Option<f64>,
+    guess: Option<f64>,
     exact: std::sync::OnceLock<f64>,
 }
 

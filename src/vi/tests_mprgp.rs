@@ -253,9 +253,10 @@ fn gaps_come_from_the_last_product() {
 }
 
 /// MPRGP's step length is never computed by a solve that does not iterate
-/// (`mprgp::StepLength`). A matrix-free W without row bounds gets it by 10 power iterations, each one product. From the
-/// solution (0, 3/2) of `two_by_two_active_set` a solve needs one sweep (one product) and no
-/// iteration, so exactly 1 product; computing ᾱ up front would count 11.
+/// (`mprgp::StepLength`). A matrix-free W without row bounds gets it by 10 power iterations,
+/// each one product. From the solution (0, 3/2) of `two_by_two_active_set` a solve needs one
+/// sweep (one product) and no iteration, so exactly 1 product; computing ᾱ up front would
+/// count 11.
 #[test]
 fn step_length_only_when_a_pass_iterates() {
     let w = MatrixFree(csr(2, &[2.0, 1.0, 1.0, 2.0]));
