@@ -146,7 +146,9 @@ impl Problem<'_> {
 
 /// Recomputes the box from the current iterate (math note §4.3), block by block.
 pub trait BoundRule {
-    /// Bounds of block k for the iterate z: lo, hi have the block's length (±inf allowed).
+    /// Bounds of block k for the iterate z: lo, hi have the block's length (±inf allowed). A
+    /// function of z: the same z gives the same bounds (a warm start that no pass moves keeps
+    /// its first box without asking again, `outer::new_box`).
     fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]);
 
     /// Bounds of every block (lo, hi of full length). The solver calls this once per pass;

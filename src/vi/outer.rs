@@ -105,13 +105,24 @@ fn passes<R: Rows>(
 /// unscaled y), validates it, measures its change and scales it. Errors: `InvalidBounds`
 /// (the last valid box is kept for the final unscaling) and `Diverged` (a zero row pushed
 /// toward an infinite bound).
+///
+/// While y is still the scaled warm start (no pass has moved it: a warm start that meets the
+/// tolerance), its iterate is the warm start z0 itself, whose box is the first pass's: the box
+/// is kept, and the answer is z0 bit for bit (`State::kept`). Unscaling y instead would give
+/// z0 to rounding (D^{-1/2} D^{1/2} z0), a box that moved by rounding, and a pass to measure it
+/// again (math note §4.3).
 fn new_box<R: Rows>(
     c: &Ctx<R>,
     p: &Pass,
     v: &mut Vectors,
-    st: &State,
+    st: &mut State,
     z: &mut [f64],
 ) -> Result<NewBox, Status> {
+    st.kept = st.have_prev && kept_start(c, v);
+    if st.kept {
+        z.copy_from_slice(&v.z0);
+        return Ok(NewBox { change: 0.0, bmax: st.bmax, same: true });
+    }
     if st.have_prev {
         pc::unscale_into(c, v, z);
         std::mem::swap(&mut v.lo, &mut v.lo_prev);
@@ -159,7 +170,13 @@ fn new_box<R: Rows>(
     {
         return Err(Status::Diverged);
     }
+    st.bmax = bmax;
     Ok(NewBox { change, bmax, same })
+}
+
+/// y is bit for bit the scaled warm start of [`Vectors::start`] (y = sd z0, z0 finite).
+fn kept_start<R: Rows>(c: &Ctx<R>, v: &Vectors) -> bool {
+    v.y.iter().zip(&v.z0).zip(c.sd).all(|((&y, &z), &sd)| z.is_finite() && y == z * sd)
 }
 
 /// Stores the status, writes z (the solution, the last iterate, or the restored warm start)
@@ -181,7 +198,11 @@ fn finish<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, z: &mut [f64], s
         // No valid box was ever returned: z was not touched.
         Status::InvalidBounds if !st.have_prev => f64::INFINITY,
         _ => {
-            pc::unscale_into(c, v, z);
+            if st.kept {
+                z.copy_from_slice(&v.z0);
+            } else {
+                pc::unscale_into(c, v, z);
+            }
             if status == Status::InvalidBounds { f64::INFINITY } else { st.res }
         }
     };

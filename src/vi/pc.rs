@@ -135,6 +135,11 @@ pub(super) struct State {
     pub last_infeasible: bool,
     /// A valid box exists (from an earlier pass).
     pub have_prev: bool,
+    /// max(0, max |finite bound|) of the current box.
+    pub bmax: f64,
+    /// y is still the scaled warm start at the last box (`outer::new_box`): the answer is the
+    /// warm start itself.
+    pub kept: bool,
     pub stats: Stats,
 }
 
@@ -154,6 +159,8 @@ impl State {
             stepped: false,
             last_infeasible: false,
             have_prev: false,
+            bmax: 0.0,
+            kept: false,
             stats: Stats::default(),
         }
     }

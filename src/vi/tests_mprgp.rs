@@ -291,3 +291,21 @@ fn step_length_only_when_a_run_expands() {
         assert!(z[0] == 0.0 && (z[1] - 1.5).abs() < 1e-12, "{z:?}");
     }
 }
+
+/// A warm start that already meets the tolerance comes back bit for bit (`outer::new_box`,
+/// `pc::State::kept`), with PC and with MPRGP. W = (3), q = −0.3, z >= 0: z = 0.1 solves it to
+/// rounding (G = 3 · 0.1 − 0.3 = 5.6e-17). Scaled and unscaled, 0.1 would come back as
+/// 0.1 · √3 · (1/√3) = 0.10000000000000002; the warm start itself is returned, after one
+/// product (the first sweep) and no iteration.
+#[test]
+fn a_warm_start_that_meets_the_tolerance_comes_back_unchanged() {
+    let w = csr(1, &[3.0]);
+    let rule = FixedBounds { lo: vec![0.0], hi: vec![INF] };
+    let p = Problem { w: &w, q: &[-0.3], blocks: &singles(1) };
+    for mut ws in [Solver::new(), mprgp()] {
+        let mut z = vec![0.1];
+        let rep = ws.solve(&p, &rule, &mut z, &opts(1e-12, true));
+        assert_eq!((rep.inner_iterations, rep.converged, ws.stats().products), (0, true, 1), "{rep:?}");
+        assert_eq!(z[0].to_bits(), 0.1f64.to_bits(), "{z:?}");
+    }
+}
