@@ -110,7 +110,7 @@ fn passes<R: Rows>(
 /// tolerance), its iterate is the warm start z0 itself, whose box is the first pass's: the box
 /// is kept, and the answer is z0 bit for bit (`State::kept`). Unscaling y instead would give
 /// z0 to rounding (D^{-1/2} D^{1/2} z0), a box that moved by rounding, and a pass to measure it
-/// again (math note §4.3).
+/// again (math note §4.8).
 fn new_box<R: Rows>(
     c: &Ctx<R>,
     p: &Pass,
