@@ -28,9 +28,14 @@ impl Segment {
     /// one for segments with cluster-local starts). Over its own `len` entries, without padding
     /// them to six through a copy: the padding's products are zeros, so the sum is the same.
     pub fn dot(&self, v: &[f64]) -> f64 {
-        let vals = &self.vals.as_slice()[..self.len];
-        vals.iter().zip(&v[self.start..self.start + self.len]).map(|(a, b)| a * b).sum()
+        dot(&self.vals.as_slice()[..self.len], &v[self.start..self.start + self.len])
     }
+}
+
+/// a · b over the shorter of the two, summed in order (B's products and the body form's share
+/// it, so that their sums agree bit for bit).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 #[derive(Debug, Clone, Default)]

@@ -16,7 +16,7 @@
 use crate::body::MAX_DOF;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
-use crate::jacobian::Jacobian;
+use crate::jacobian::{Jacobian, dot};
 use std::sync::Mutex;
 
 /// One segment of B on a body-form cluster, in 20 bytes (usize fields took 40): the products
@@ -335,10 +335,6 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// a[..N] · b[..N], unrolled.

@@ -532,19 +532,19 @@ impl Solver {
         let correction = self.correction;
         let measure = measure::Measure::new(opts);
         let v = &mut self.vectors;
-        let guess = mprgp.then_some(self.step_length);
+        let step = mprgp.then(|| mprgp::StepLength::new(self.step_length));
         let (report, known) = if explicit {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, guess)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, step)
         } else {
             let rows = scaling::Scaled { w: p.w, sc: &s.sc };
-            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, guess)
+            outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, step)
         };
         if known.is_some() {
             self.step_length = known;
         }
         self.stats = st.stats;
-        self.exact = report.converged && st.exact;
+        self.exact = report.converged && st.exact();
         report
     }
 
@@ -554,18 +554,18 @@ impl Solver {
     }
 }
 
-/// The outer loop with PC, or with MPRGP passes (their step length computed when first needed,
-/// `guess` standing in for it until then: `mprgp::StepLength`). Returns the report and the step
-/// length a later solve may take as its guess.
+/// The outer loop with PC, or with MPRGP passes given their step length (computed when first
+/// needed, a guess standing in for it until then: `mprgp::StepLength`). Returns the report and
+/// the step length a later solve may take as its guess.
 fn outer_run<R: scaling::Rows>(
     mut c: pc::Ctx<R>,
     pass: &outer::Pass,
     v: &mut pc::Vectors,
     st: &mut pc::State,
     z: &mut [f64],
-    mprgp: Option<Option<f64>>,
+    step: Option<mprgp::StepLength>,
 ) -> (Report, Option<f64>) {
-    c.mprgp = mprgp.map(mprgp::StepLength::new);
+    c.mprgp = step;
     let report = outer::solve(&c, pass, v, st, z);
     (report, c.mprgp.and_then(|s| s.known()))
 }

@@ -181,9 +181,7 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
 
 /// y −= α p, Ŵy −= α Ŵp.
 fn step(v: &mut Vectors, st: &mut State, alpha: f64) {
-    // (`State::exact`: one update from a full product is still exact to its rounding)
-    st.exact &= !st.stepped;
-    st.stepped = true;
+    st.steps = st.steps.saturating_add(1);
     let Vectors { y, wy, yt, wyt, ylo, yhi, .. } = v;
     for i in 0..y.len() {
         y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);

@@ -72,7 +72,7 @@ fn passes<R: Rows>(
         // friction bounds recomputed from the unscaled answer) needs the measurements again,
         // not the product.
         let stale = !(nb.same && moved == 0.0 && st.fresh);
-        let ok = match (stale, moved == 0.0 && st.exact) {
+        let ok = match (stale, moved == 0.0 && st.exact()) {
             (false, _) => true,
             (true, true) => pc::remeasure(c, v, st),
             (true, false) => pc::sweep(c, v, st),

@@ -123,14 +123,8 @@ pub(super) struct State {
     pub ee: f64,
     /// A sweep has been made (its results above are those of the current y unless y moved).
     pub fresh: bool,
-    /// `wy` is Ŵy of the current y to the rounding of a full product: a sweep's product, or
-    /// one updated along with a single MPRGP step since (`stepped`). One update,
-    /// wy − α Ŵp with Ŵp itself a full product, adds the rounding of one more term to each
-    /// row's sum, inside the margin of the measure's round-off floor (`measure::ROUND`); more
-    /// updates accumulate, and MPRGP's own refresh bounds them only against drift.
-    pub exact: bool,
-    /// y has moved by an MPRGP step since the last sweep.
-    pub stepped: bool,
+    /// MPRGP steps since the last sweep: each updates `wy` along with y ([`Self::exact`]).
+    pub steps: u32,
     /// y lay outside the box at the last sweep (contraction step only).
     pub last_infeasible: bool,
     /// A valid box exists (from an earlier pass).
@@ -155,14 +149,22 @@ impl State {
             znorm: 0.0,
             ee: 0.0,
             fresh: false,
-            exact: false,
-            stepped: false,
+            steps: 0,
             last_infeasible: false,
             have_prev: false,
             bmax: 0.0,
             kept: false,
             stats: Stats::default(),
         }
+    }
+
+    /// `wy` is Ŵy of the current y to the rounding of a full product: a sweep's product, or
+    /// one updated along with a single MPRGP step since. One update, wy − α Ŵp with Ŵp itself
+    /// a full product, adds the rounding of one more term to each row's sum, inside the margin
+    /// of the measure's round-off floor (`measure::ROUND`); more updates accumulate, and
+    /// MPRGP's own refresh bounds them only against drift.
+    pub fn exact(&self) -> bool {
+        self.fresh && self.steps <= 1
     }
 }
 
@@ -209,10 +211,10 @@ pub(super) fn sweep<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> boo
 }
 
 /// The sweep's measurements without its product, when `wy` already is Ŵy of the current y
-/// (`st.exact`) and only the box changed: the results of [`sweep`] without its product (the
+/// (`st.exact()`) and only the box changed: the results of [`sweep`] without its product (the
 /// same bit for bit when no MPRGP step updated `wy` since the last sweep).
 pub(super) fn remeasure<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> bool {
-    debug_assert!(st.exact);
+    debug_assert!(st.exact());
     measure_rows::<R, false>(c, v, st)
 }
 
@@ -252,8 +254,7 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
         pt
     });
     st.fresh = true;
-    st.exact = true;
-    st.stepped = false;
+    st.steps = 0;
     st.last_infeasible = pt.s1 > 0.0;
     st.res = Measure::combine(pt.m0, pt.m2, pt.m1);
     st.znorm = pt.m1;

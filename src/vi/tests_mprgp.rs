@@ -309,3 +309,30 @@ fn a_warm_start_that_meets_the_tolerance_comes_back_unchanged() {
         assert_eq!(z[0].to_bits(), 0.1f64.to_bits(), "{z:?}");
     }
 }
+
+/// A box that moves after a run ended on one MPRGP step is measured again without a product
+/// (`pc::State::exact`: Ŵy updated by one step is exact to rounding). `two_by_two_active_set`
+/// from z = (0, 0) with bounds [0, 10 + z₁] (a function of z): as derived in
+/// `step_length_only_when_a_run_expands`, one proportioning step of length 1 lands on
+/// z = (0, 3/2), inside the first box (scaled, y₁ = 3/√2 against 10√2). The next pass's box
+/// has hi = 11.5: it moved, the iterate did not, and Ŵy is one step from the first sweep's
+/// product, so it is remeasured; the pass after finds the box settled. Products: the first
+/// sweep and the step's, 2 (a new sweep for the moved box would make 3); outer passes 2.
+#[test]
+fn moved_box_after_one_step_costs_no_product() {
+    struct Sliding;
+    impl BoundRule for Sliding {
+        fn block_bounds(&self, _k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+            lo.fill(0.0);
+            hi.fill(10.0 + z[1]);
+        }
+    }
+    let w = csr(2, &[2.0, 1.0, 1.0, 2.0]);
+    let p = Problem { w: &w, q: &[1.0, -3.0], blocks: &singles(2) };
+    let mut ws = mprgp();
+    let mut z = vec![0.0, 0.0];
+    let rep = ws.solve(&p, &Sliding, &mut z, &opts(1e-12, true));
+    let counts = (rep.outer_iterations, rep.inner_iterations, rep.converged, ws.stats().products);
+    assert_eq!(counts, (2, 1, true, 2), "{rep:?}");
+    assert!(z[0] == 0.0 && (z[1] - 1.5).abs() < 1e-12, "{z:?}");
+}
