@@ -339,22 +339,30 @@ impl Body {
     /// of a unit force `dir` applied at `x`.
     pub fn shape_row(&self, x: Vec2, dir: Vec2) -> Dofs {
         let mut row = Dofs::zeros();
+        self.scaled_shape_row(x, dir, 1.0, row.as_mut_slice());
+        row
+    }
+
+    /// [`Self::shape_row`] times `s` into `out[..ndof]` (each entry computed as there, then
+    /// multiplied by s), returning ndof: B's rows go straight into the Jacobian this way, with
+    /// no six-vector built, scaled and copied per row.
+    pub fn scaled_shape_row(&self, x: Vec2, dir: Vec2, s: f64, out: &mut [f64]) -> usize {
         let n = self.ndof();
         if n == 0 {
-            return row;
+            return 0;
         }
         let r = x - self.centroid;
-        row[0] = dir.x;
-        row[1] = dir.y;
-        row[2] = cross(r, dir);
+        out[0] = dir.x * s;
+        out[1] = dir.y * s;
+        out[2] = cross(r, dir) * s;
         if n == 4 {
-            row[3] = r.dot(&dir);
+            out[3] = r.dot(&dir) * s;
         } else if n == 6 {
-            row[3] = r.x * dir.x;
-            row[4] = r.y * dir.y;
-            row[5] = 0.5 * (r.y * dir.x + r.x * dir.y);
+            out[3] = (r.x * dir.x) * s;
+            out[4] = (r.y * dir.y) * s;
+            out[5] = (0.5 * (r.y * dir.x + r.x * dir.y)) * s;
         }
-        row
+        n
     }
 
     /// Displacement `T(x) d` of the material point at `x` (linearized).

@@ -10,25 +10,39 @@
 
 use crate::body::{Dofs, MAX_DOF};
 
-/// The part of one row of B on one DOF range.
+/// The part of one row of B on one DOF range, in 20 bytes: its entries are the Jacobian's
+/// `vals[val..val + len]` ([`Jacobian::vals`]). The products stream over every segment several
+/// times a step, and from about 10,000 disks B no longer fits the caches (math note §3.3); with
+/// usize fields and the six entries inline a segment took 80 bytes. u32 indices hold every
+/// problem that fits in memory: 2³² segments would take 86 GB, 2³² values 34 GB.
 #[derive(Debug, Clone, Copy)]
 pub struct Segment {
-    pub row: usize,
+    row: u32,
     /// The cluster owning the DOFs.
-    pub cluster: usize,
-    /// First global DOF.
-    pub start: usize,
-    /// Number of DOFs (≤ 6); `vals` is zero beyond it.
-    pub len: usize,
-    pub vals: Dofs,
+    cluster: u32,
+    /// First DOF (global, or cluster-local in a cluster's own copy).
+    start: u32,
+    /// Number of DOFs (1 to 6).
+    len: u32,
+    val: u32,
 }
 
 impl Segment {
-    /// The segment's entries dotted with its range of `v` (a global vector, or a cluster-local
-    /// one for segments with cluster-local starts). Over its own `len` entries, without padding
-    /// them to six through a copy: the padding's products are zeros, so the sum is the same.
-    pub fn dot(&self, v: &[f64]) -> f64 {
-        dot(&self.vals.as_slice()[..self.len], &v[self.start..self.start + self.len])
+    pub fn row(&self) -> usize {
+        self.row as usize
+    }
+    pub fn cluster(&self) -> usize {
+        self.cluster as usize
+    }
+    pub fn start(&self) -> usize {
+        self.start as usize
+    }
+    pub fn width(&self) -> usize {
+        self.len as usize
+    }
+    /// Its DOFs.
+    pub fn dofs(&self) -> std::ops::Range<usize> {
+        self.start()..self.start() + self.width()
     }
 }
 
@@ -38,25 +52,83 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// [`dot`] over a[..N] and b[..N], unrolled (the same sum).
+#[inline(always)]
+pub fn dot_n<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
+    let (a, b) = (&a[..N], &b[..N]);
+    (0..N).map(|i| a[i] * b[i]).sum()
+}
+
+/// B as segments in push order, their entries packed in `vals`.
 #[derive(Debug, Clone, Default)]
 pub struct Jacobian {
     pub rows: usize,
-    pub segments: Vec<Segment>,
+    segments: Vec<Segment>,
+    vals: Vec<f64>,
 }
 
 impl Jacobian {
+    /// An empty Jacobian of `rows` rows.
+    pub fn with_rows(rows: usize) -> Jacobian {
+        Jacobian { rows, ..Default::default() }
+    }
+
     /// Clears the Jacobian for `rows` rows, keeping its storage.
     pub fn reset(&mut self, rows: usize) {
         self.rows = rows;
         self.segments.clear();
+        self.vals.clear();
     }
 
     /// Adds the entries `vals[..len]` of row `row` at DOFs `start..start + len` of `cluster`.
+    #[inline(always)]
     pub fn push(&mut self, row: usize, cluster: usize, start: usize, len: usize, vals: Dofs) {
         debug_assert!(len <= MAX_DOF);
-        if len > 0 {
-            self.segments.push(Segment { row, cluster, start, len, vals });
+        self.push_slice(row, cluster, start, &vals.as_slice()[..len]);
+    }
+
+    /// Adds the entries `vals` of row `row` at DOFs `start..start + vals.len()` of `cluster`.
+    #[inline(always)]
+    pub fn push_slice(&mut self, row: usize, cluster: usize, start: usize, vals: &[f64]) {
+        if vals.is_empty() {
+            return;
         }
+        // the u32 fields (see `Segment`)
+        debug_assert!(row.max(cluster).max(start + vals.len()).max(self.vals.len()) < u32::MAX as usize);
+        let (row, cluster, start) = (row as u32, cluster as u32, start as u32);
+        let (len, val) = (vals.len() as u32, self.vals.len() as u32);
+        self.segments.push(Segment { row, cluster, start, len, val });
+        match vals.len() {
+            // a rigid body's segment: three stores, not a call to memcpy
+            3 => self.vals.extend([vals[0], vals[1], vals[2]]),
+            _ => self.vals.extend_from_slice(vals),
+        }
+    }
+
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// The entries of segment s.
+    #[inline(always)]
+    pub fn vals(&self, s: &Segment) -> &[f64] {
+        &self.vals[s.val as usize..s.val as usize + s.width()]
+    }
+
+    /// Segment s's entries dotted with its range of `v` (a global vector, or a cluster-local
+    /// one for segments with cluster-local starts).
+    #[inline(always)]
+    pub fn dot(&self, s: &Segment, v: &[f64]) -> f64 {
+        match s.width() {
+            // a rigid body's segment, unrolled
+            3 => dot_n::<3>(self.vals(s), &v[s.start()..]),
+            _ => dot(self.vals(s), &v[s.dofs()]),
+        }
+    }
+
+    /// Sorts the segments by row, stably: a row's segments become consecutive, in push order.
+    pub fn sort_by_row(&mut self) {
+        self.segments.sort_by_key(|s| s.row);
     }
 
     /// `out = B v` for a global DOF vector `v`.
@@ -64,15 +136,15 @@ impl Jacobian {
         out.clear();
         out.resize(self.rows, 0.0);
         for s in &self.segments {
-            out[s.row] += s.dot(v);
+            out[s.row()] += self.dot(s, v);
         }
     }
 
     /// `out += Bᵀ z` over the rows that `keep` selects.
     pub fn transpose_apply(&self, z: &[f64], keep: impl Fn(usize) -> bool, out: &mut [f64]) {
-        for s in self.segments.iter().filter(|s| keep(s.row)) {
-            for (i, x) in out[s.start..s.start + s.len].iter_mut().enumerate() {
-                *x += s.vals[i] * z[s.row];
+        for s in self.segments.iter().filter(|s| keep(s.row())) {
+            for (x, v) in out[s.dofs()].iter_mut().zip(self.vals(s)) {
+                *x += v * z[s.row()];
             }
         }
     }

@@ -170,7 +170,7 @@ fn check_scene(
     }
     let w = delassus::assemble(&jac, &flex, &map).to_dense();
     // the operator form (every cluster factor-backed) applied to the unit vectors, and its diagonal
-    let op = delassus::ContactOperator::new(&jac, &flex, &map, 0);
+    let op = delassus::ContactOperator::new(jac.clone(), &flex, &map, 0);
     matches_w(&op, rows, |r, c| w[[r, c]], "operator")?;
     check_body_form(&jac, &flex, &map, |r, c| w[[r, c]])?;
     let kinv = k_dense.clone().lu().try_inverse().expect("K̃ invertible");
@@ -230,8 +230,14 @@ fn check_body_form(
     w: impl Fn(usize, usize) -> f64,
 ) -> Result<(), TestCaseError> {
     let rows = jac.rows;
-    let op =
-        delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
+    let op = delassus::ContactOperator::with_scratch(
+        jac.clone(),
+        flex,
+        map,
+        usize::MAX,
+        true,
+        &mut Default::default(),
+    );
     matches_w(&op, rows, &w, "body form")?;
     let sc: Vec<f64> = (0..rows).map(|r| if w(r, r) > 0.0 { 1.0 / w(r, r).sqrt() } else { 1.0 }).collect();
     let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w(r, c) * sc[c]);
@@ -318,8 +324,14 @@ fn scaled_norm_and_bounds(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (
         (0..rows).map(|r| if w[[r, r]] > 0.0 { 1.0 / w[[r, r]].sqrt() } else { 1.0 }).collect();
     let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w[[r, c]] * sc[c]);
     let gershgorin = hat.row_iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
-    let op =
-        delassus::ContactOperator::with_scratch(jac, flex, map, usize::MAX, true, &mut Default::default());
+    let op = delassus::ContactOperator::with_scratch(
+        jac.clone(),
+        flex,
+        map,
+        usize::MAX,
+        true,
+        &mut Default::default(),
+    );
     let mut bound = vec![0.0; rows];
     assert!(op.row_bounds(&sc, &mut bound));
     (SymmetricEigen::new(hat).eigenvalues.max(), bound, gershgorin)

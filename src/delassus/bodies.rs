@@ -16,58 +16,34 @@
 use crate::body::MAX_DOF;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
-use crate::jacobian::{Jacobian, dot};
+use crate::jacobian::{Jacobian, Segment, dot, dot_n};
 use std::sync::Mutex;
 
-/// One segment of B on a body-form cluster, in 20 bytes (usize fields took 40): the products
-/// stream over every segment several times a step, and from about 10,000 disks the segments
-/// no longer fit the caches (math note §3.3). u32 indices hold every problem that fits in
-/// memory: 2³² segments would take 86 GB, 2³² values 34 GB.
-#[derive(Debug, Clone, Copy)]
-struct Seg {
-    row: u32,
-    /// Its body (compact index).
-    body: u32,
-    /// Its first DOF in the compact body vectors (the body's offset + the local DOF).
-    at: u32,
-    /// Its range of `vals`.
-    val: u32,
-    len: u32,
-}
+/// A cluster's entry in `BodyPart::compact` when it is not in body form.
+const NONE: u32 = u32::MAX;
 
-impl Seg {
-    fn row(&self) -> usize {
-        self.row as usize
-    }
-    fn body(&self) -> usize {
-        self.body as usize
-    }
-    fn at(&self) -> usize {
-        self.at as usize
-    }
-    fn val(&self) -> usize {
-        self.val as usize
-    }
-    fn len(&self) -> usize {
-        self.len as usize
-    }
-}
-
-/// The body-form clusters' part of W (see the module docs).
+/// The body-form clusters' part of W (see the module docs). It keeps no copy of B: its
+/// products run over the operator's own Jacobian (passed in), whose segments on body-form
+/// clusters it reads in push order (which fixes every sum's order), and its body vectors are
+/// indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
 #[derive(Debug, Default)]
 pub(super) struct BodyPart {
-    /// Segments in push order (which fixes every sum's order); their values in `vals`.
-    segs: Vec<Seg>,
-    vals: Vec<f64>,
-    /// Per body (compact order): its first DOF in the compact vectors (`bodies + 1` offsets),
-    /// and its K̃_c⁻¹ and square root R_c (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from
-    /// `kinv[square[b]..]` and `root[square[b]..]`.
-    offset: Vec<usize>,
+    /// Per cluster, its body (compact index), or `NONE`.
+    compact: Vec<u32>,
+    /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
+    /// (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from `kinv[square[b]..]` and
+    /// `root[square[b]..]`.
+    start: Vec<usize>,
+    n: Vec<usize>,
     square: Vec<usize>,
     /// Per body, its first entry in packed n_c(n_c + 1)/2 lower triangles (`bodies + 1` offsets).
     packed: Vec<usize>,
     kinv: Vec<f64>,
     root: Vec<f64>,
+    /// The length of the body vectors (B's columns).
+    dofs: usize,
+    /// How many of B's segments are on body-form clusters.
+    count: usize,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -82,62 +58,59 @@ impl BodyPart {
         body: &[bool],
         diagonal: &mut [f64],
     ) -> Self {
-        let mut part = BodyPart { offset: vec![0], packed: vec![0], ..Default::default() };
-        let mut compact = vec![usize::MAX; body.len()];
+        let mut part = BodyPart {
+            compact: vec![NONE; body.len()],
+            packed: vec![0],
+            dofs: map.total(),
+            ..Default::default()
+        };
         let ns = || (0..body.len()).filter(|&c| body[c]).map(|c| map.cluster_range(c).len());
         let (count, squares) = (ns().count(), ns().map(|n| n * n).sum());
         part.kinv.reserve(squares);
         part.root.reserve(squares);
+        part.start.reserve(count);
+        part.n.reserve(count);
         part.square.reserve(count);
-        part.offset.reserve(count);
         part.packed.reserve(count);
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
             if let (Some(k), Some(r)) = (flex.body_inverse(c), flex.body_root(c)) {
-                let n = map.cluster_range(c).len();
-                compact[c] = part.square.len();
+                let (range, b) = (map.cluster_range(c), part.n.len());
+                let n = range.len();
+                part.compact[c] = b as u32;
+                part.start.push(range.start);
+                part.n.push(n);
                 part.square.push(part.kinv.len());
-                part.kinv.extend((0..n).flat_map(|j| (0..n).map(move |i| k[(i, j)])));
-                part.root.extend((0..n).flat_map(|j| (0..n).map(move |i| r[(i, j)])));
-                part.offset.push(part.offset[compact[c]] + n);
-                part.packed.push(part.packed[compact[c]] + n * (n + 1) / 2);
+                // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
+                // instructions of a 21 M warm step on the 1,000-disk pile)
+                for j in 0..n {
+                    part.kinv.extend_from_slice(&k.column(j).as_slice()[..n]);
+                    part.root.extend_from_slice(&r.column(j).as_slice()[..n]);
+                }
+                part.packed.push(part.packed[b] + n * (n + 1) / 2);
             }
         }
-        // the u32 indices of `Seg` and `add_diagonal` (see `Seg`)
-        debug_assert!(jac.rows < u32::MAX as usize && MAX_DOF * jac.segments.len() < u32::MAX as usize);
-        part.segs.reserve(jac.segments.len());
-        part.vals.reserve(3 * jac.segments.len());
-        for s in jac.segments.iter().filter(|s| compact[s.cluster] != usize::MAX) {
-            let b = compact[s.cluster];
-            let at = part.offset[b] + (s.start - map.cluster_range(s.cluster).start);
-            let (row, body, at, val, len) =
-                (s.row as u32, b as u32, at as u32, part.vals.len() as u32, s.len as u32);
-            part.segs.push(Seg { row, body, at, val, len });
-            match s.len {
-                // a rigid body's segment: three stores, not a call to memcpy
-                3 => part.vals.extend([s.vals[0], s.vals[1], s.vals[2]]),
-                len => part.vals.extend_from_slice(&s.vals.as_slice()[..len]),
-            }
-        }
-        part.add_diagonal(jac.rows, diagonal);
+        part.count = part.segs(jac).count();
+        part.add_diagonal(jac, diagonal);
         part
     }
 
     pub fn is_empty(&self) -> bool {
-        self.segs.is_empty()
+        self.count == 0
     }
 
-    /// DOFs of body b.
-    fn n(&self, b: usize) -> usize {
-        self.offset[b + 1] - self.offset[b]
+    /// B's segments on body-form clusters, in push order.
+    fn segs<'a>(&'a self, jac: &'a Jacobian) -> impl Iterator<Item = &'a Segment> + Clone + 'a {
+        jac.segments().iter().filter(|s| self.compact[s.cluster()] != NONE)
     }
 
-    fn vals(&self, s: &Seg) -> &[f64] {
-        &self.vals[s.val()..s.val() + s.len()]
+    /// Segment s's body.
+    fn body(&self, s: &Segment) -> usize {
+        self.compact[s.cluster()] as usize
     }
 
     /// out[..n_b] = K̃_b⁻¹ u[..n_b].
     fn solve(&self, b: usize, u: &[f64], out: &mut [f64]) {
-        let n = self.n(b);
+        let n = self.n[b];
         let k = &self.kinv[self.square[b]..self.square[b] + n * n];
         // the common sizes with their loops unrolled (rigid bodies 3, deformable 4 and 6)
         match n {
@@ -155,42 +128,47 @@ impl BodyPart {
         }
     }
 
+    /// Segment s's first DOF within its body.
+    fn local(&self, s: &Segment) -> usize {
+        s.start() - self.start[self.body(s)]
+    }
+
     /// K̃_b⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
-    fn column(&self, s: &Seg, u: &mut [f64], out: &mut [f64]) {
-        u[..self.n(s.body())].fill(0.0);
-        let local = s.at() - self.offset[s.body()];
-        u[local..local + s.len()].copy_from_slice(self.vals(s));
-        self.solve(s.body(), u, out);
+    fn column(&self, jac: &Jacobian, s: &Segment, u: &mut [f64], out: &mut [f64]) {
+        let (b, local) = (self.body(s), self.local(s));
+        u[..self.n[b]].fill(0.0);
+        u[local..local + s.width()].copy_from_slice(jac.vals(s));
+        self.solve(b, u, out);
     }
 
     /// s · v over the segment's DOFs, v a body-local vector.
-    fn dot(&self, s: &Seg, v: &[f64]) -> f64 {
-        let local = s.at() - self.offset[s.body()];
-        dot(self.vals(s), &v[local..local + s.len()])
+    fn dot(&self, jac: &Jacobian, s: &Segment, v: &[f64]) -> f64 {
+        let local = self.local(s);
+        dot(jac.vals(s), &v[local..local + s.width()])
     }
 
     /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
     /// products with the earlier segments of its row on its body (found through a chain per row).
-    fn add_diagonal(&self, rows: usize, diagonal: &mut [f64]) {
-        // u32 links, as in `Seg`: half the memory to clear each step
-        const NONE: u32 = u32::MAX;
-        let (mut last, mut prev) = (vec![NONE; rows], vec![NONE; self.segs.len()]);
+    fn add_diagonal(&self, jac: &Jacobian, diagonal: &mut [f64]) {
+        // u32 links, as in `Segment`: half the memory to clear each step
+        let all = jac.segments();
+        let (mut last, mut prev) = (vec![NONE; jac.rows], vec![NONE; all.len()]);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
-        for (i, s) in self.segs.iter().enumerate() {
-            let mut d = if s.len() == 3 && self.n(s.body()) == 3 {
+        for (i, s) in all.iter().enumerate().filter(|(_, s)| self.compact[s.cluster()] != NONE) {
+            let mut d = if s.width() == 3 && self.n[self.body(s)] == 3 {
                 // a rigid body's row (the segment covers the body's DOFs), unrolled
-                solve_n::<3>(&self.kinv[self.square[s.body()]..], self.vals(s), &mut x);
-                dot_n::<3>(self.vals(s), &x)
+                solve_n::<3>(&self.kinv[self.square[self.body(s)]..], jac.vals(s), &mut x);
+                dot_n::<3>(jac.vals(s), &x)
             } else {
-                self.column(s, &mut u, &mut x);
-                self.dot(s, &x)
+                self.column(jac, s, &mut u, &mut x);
+                self.dot(jac, s, &x)
             };
             let mut j = last[s.row()];
             while j != NONE {
-                let t = &self.segs[j as usize];
-                if t.body() == s.body() {
-                    self.column(s, &mut u, &mut x);
-                    d += 2.0 * self.dot(t, &x);
+                let t = &all[j as usize];
+                if t.cluster() == s.cluster() {
+                    self.column(jac, s, &mut u, &mut x);
+                    d += 2.0 * self.dot(jac, t, &x);
                 }
                 j = prev[j as usize];
             }
@@ -200,45 +178,68 @@ impl BodyPart {
     }
 
     /// out += W_bodies z.
-    pub fn apply(&self, z: &[f64], out: &mut [f64]) {
-        let n = self.offset[self.offset.len() - 1];
+    pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
+        if self.count == jac.segments().len() {
+            // a scene of single bodies: no filter, which would cost each product a load per
+            // segment
+            self.product(jac, jac.segments().iter(), true, z, out);
+        } else {
+            self.product(jac, self.segs(jac), false, z, out);
+        }
+    }
+
+    /// out += W_bodies z over the segments `segs` (B's segments on body-form clusters; `whole`
+    /// when they are all of B's, so that every DOF is a body's).
+    fn product<'a>(
+        &self,
+        jac: &Jacobian,
+        segs: impl Iterator<Item = &'a Segment> + Clone,
+        whole: bool,
+        z: &[f64],
+        out: &mut [f64],
+    ) {
+        let n = self.dofs;
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
-        // u accumulates and starts at zero; v is written body by body over all of 0..n
+        // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's);
+        // v is written body by body
         work.resize(2 * n, 0.0);
         let (u, v) = work.split_at_mut(n);
-        u.fill(0.0);
-        for s in &self.segs {
-            let (zr, vals) = (z[s.row()], self.vals(s));
-            match s.len() {
-                3 => axpy::<3>(zr, vals, &mut u[s.at()..]),
-                len => u[s.at()..s.at() + len].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
+        if whole {
+            u.fill(0.0);
+        } else {
+            self.start.iter().zip(&self.n).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
+        }
+        for s in segs.clone() {
+            let (zr, vals) = (z[s.row()], jac.vals(s));
+            match s.width() {
+                3 => axpy::<3>(zr, vals, &mut u[s.start()..]),
+                _ => u[s.dofs()].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
             }
         }
-        for b in 0..self.square.len() {
-            let r = self.offset[b]..self.offset[b + 1];
+        for (b, &start) in self.start.iter().enumerate() {
+            let r = start..start + self.n[b];
             self.solve(b, &u[r.clone()], &mut v[r]);
         }
-        for s in &self.segs {
-            out[s.row()] += match s.len() {
-                3 => dot_n::<3>(self.vals(s), &v[s.at()..]),
-                len => dot(self.vals(s), &v[s.at()..s.at() + len]),
-            };
+        for s in segs {
+            out[s.row()] += jac.dot(s, v);
         }
     }
 
     /// Pushes `(r, s, s_r K̃_c⁻¹ t_sᵀ)` for every pair of segments (s_r, t_s) on one body whose
     /// rows are both kept: W_bodies entry by entry, duplicates to be summed.
-    pub fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
-        let bodies = self.square.len();
-        let (by_body, start) = group(self.segs.iter().map(|s| s.body()), bodies);
+    pub fn entries(&self, jac: &Jacobian, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
+        let bodies = self.n.len();
+        let all = jac.segments();
+        let mine: Vec<usize> = (0..all.len()).filter(|&i| self.compact[all[i].cluster()] != NONE).collect();
+        let (order, start) = group(mine.iter().map(|&i| self.body(&all[i])), bodies);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for b in 0..bodies {
-            let mine = &by_body[start[b]..start[b + 1]];
-            for s in mine.iter().map(|&i| &self.segs[i]).filter(|s| keep[s.row()]) {
-                self.column(s, &mut u, &mut x);
-                for t in mine.iter().map(|&j| &self.segs[j]).filter(|t| keep[t.row()]) {
-                    out.push((t.row(), s.row(), self.dot(t, &x)));
+            let segs = || order[start[b]..start[b + 1]].iter().map(|&k| &all[mine[k]]);
+            for s in segs().filter(|s| keep[s.row()]) {
+                self.column(jac, s, &mut u, &mut x);
+                for t in segs().filter(|t| keep[t.row()]) {
+                    out.push((t.row(), s.row(), self.dot(jac, t, &x)));
                 }
             }
         }
@@ -250,24 +251,23 @@ impl BodyPart {
     /// T_c's rows sc_r t_sᵀ and y_s = x_row(s), and T_cᵀ T_c = M_c.) λ_c is exact for 3 DOFs
     /// (rigid bodies) and Gershgorin's bound of M_c otherwise. Costs about 2 n_c² multiply-adds
     /// per segment, where Gershgorin's bound of W took W's m_c² entries per body.
-    pub fn row_bounds(&self, sc: &[f64], out: &mut [f64]) {
-        let bodies = self.square.len();
+    pub fn row_bounds(&self, jac: &Jacobian, sc: &[f64], out: &mut [f64]) {
+        let bodies = self.n.len();
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
         // m accumulates and starts at zero; every body's λ is written below
         work.resize(self.packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(self.packed[bodies]);
         m.fill(0.0);
-        for s in &self.segs {
-            let (b, w) = (s.body(), sc[s.row()] * sc[s.row()]);
-            let (n, local, r) = (self.n(b), s.at() - self.offset[b], &self.root[self.square[b]..]);
+        for s in self.segs(jac) {
+            let (b, w) = (self.body(s), sc[s.row()] * sc[s.row()]);
+            let (n, local, r) = (self.n[b], self.local(s), &self.root[self.square[b]..]);
             let mb = &mut m[self.packed[b]..self.packed[b + 1]];
-            if n == 3 && s.len() == 3 {
+            if n == 3 && s.width() == 3 {
                 // a rigid body's row, unrolled: t = Rᵀ s, M += w t tᵀ. The same sums as the
                 // general loop below, which would cost 3.3 M more instructions of a 27.6 M warm
                 // step on the 1,000-disk pile (callgrind)
-                let (r, v) = (&r[..9], self.vals(s));
-                let v = &v[..3];
+                let (r, v) = (&r[..9], &jac.vals(s)[..3]);
                 let t = [
                     r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
                     r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
@@ -282,7 +282,7 @@ impl BodyPart {
             let mut t = [0.0; MAX_DOF];
             // t_j = Σ_i R_ij s_i (R column-major), then M += w t tᵀ (packed lower triangle)
             for (j, tj) in t[..n].iter_mut().enumerate() {
-                *tj = dot(&r[j * n + local..j * n + local + s.len()], self.vals(s));
+                *tj = dot(&r[j * n + local..j * n + local + s.width()], jac.vals(s));
             }
             let mut k = 0;
             for i in 0..n {
@@ -294,10 +294,10 @@ impl BodyPart {
             }
         }
         for (b, l) in lambda.iter_mut().enumerate() {
-            *l = largest_eigenvalue(&m[self.packed[b]..self.packed[b + 1]], self.n(b));
+            *l = largest_eigenvalue(&m[self.packed[b]..self.packed[b + 1]], self.n[b]);
         }
-        for s in &self.segs {
-            out[s.row()] += lambda[s.body()];
+        for s in self.segs(jac) {
+            out[s.row()] += lambda[self.body(s)];
         }
     }
 }
@@ -335,13 +335,6 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
-}
-
-/// a[..N] · b[..N], unrolled.
-#[inline(always)]
-fn dot_n<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
-    let (a, b) = (&a[..N], &b[..N]);
-    (0..N).map(|i| a[i] * b[i]).sum()
 }
 
 /// u[..N] += x t[..N], unrolled.

@@ -73,37 +73,41 @@ pub struct Scratch {
 /// form (about 160 MB of f64).
 pub const EXPLICIT_LIMIT: usize = 20_000_000;
 
-/// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit.
+/// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit (on a
+/// copy of B, which the operator keeps).
 pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> {
-    ContactOperator::with_scratch(jac, flex, map, usize::MAX, false, &mut Scratch::default()).explicit
+    ContactOperator::with_scratch(jac.clone(), flex, map, usize::MAX, false, &mut Scratch::default()).explicit
 }
 
 /// W of one step as the VI sees it: the explicit CSR part, plus the clusters kept in operator
-/// form and the single bodies in body form.
+/// form and the single bodies in body form, which are applied through B itself: the operator
+/// owns B.
 pub struct ContactOperator {
+    jac: Jacobian,
     pub explicit: CsMat<f64>,
     factored: Vec<FactoredCluster>,
     bodies: BodyPart,
     diagonal: Vec<f64>,
 }
 
-/// One cluster's part of W in operator form: its segments (cluster-local starts) and its factor.
+/// One cluster's part of W in operator form: its rows of B (cluster-local starts, sorted by
+/// row) and its factor.
 struct FactoredCluster {
     n: usize,
     solver: ClusterSolver,
-    segments: Vec<Segment>,
+    segments: Jacobian,
 }
 
 impl ContactOperator {
     /// W with every cluster explicit below `limit` numbers and in operator form above it.
-    pub fn new(jac: &Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
+    pub fn new(jac: Jacobian, flex: &Flexibility, map: &DofMap, limit: usize) -> ContactOperator {
         Self::with_scratch(jac, flex, map, limit, false, &mut Scratch::default())
     }
 
     /// [`Self::new`] with the work storage of earlier steps; with `bodies`, every single body
     /// with a closed-form K̃⁻¹ is in body form (`bodies.rs`, math note §3.3) instead of explicit.
     pub fn with_scratch(
-        jac: &Jacobian,
+        jac: Jacobian,
         flex: &Flexibility,
         map: &DofMap,
         limit: usize,
@@ -112,16 +116,16 @@ impl ContactOperator {
     ) -> ContactOperator {
         let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.body_inverse(c).is_some()).collect();
         let mut diagonal = vec![0.0; jac.rows];
-        if jac.segments.iter().all(|s| body[s.cluster]) {
+        if jac.segments().iter().all(|s| body[s.cluster()]) {
             // a scene of single bodies: nothing to assemble. The assembly's passes over every
             // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
             // a 29 M warm step on the 1,000-disk pile
-            let bodies = BodyPart::new(jac, flex, map, &body, &mut diagonal);
+            let bodies = BodyPart::new(&jac, flex, map, &body, &mut diagonal);
             let explicit = CsMat::zero((jac.rows, jac.rows));
-            return ContactOperator { explicit, factored: Vec::new(), bodies, diagonal };
+            return ContactOperator { jac, explicit, factored: Vec::new(), bodies, diagonal };
         }
-        scratch.layout(jac, flex, map);
-        let factored_clusters: Vec<bool> = cluster_row_counts(jac, map)
+        scratch.layout(&jac, flex, map);
+        let factored_clusters: Vec<bool> = cluster_row_counts(&jac, map)
             .iter()
             .zip(&scratch.col_len)
             .zip(&body)
@@ -129,16 +133,26 @@ impl ContactOperator {
                 !b && rows.saturating_mul(rows).saturating_add(rows.saturating_mul(n)) > limit
             })
             .collect();
-        let factored = factored_parts(jac, flex, map, &factored_clusters, &mut diagonal);
-        let bodies = BodyPart::new(jac, flex, map, &body, &mut diagonal);
+        let factored = factored_parts(&jac, flex, map, &factored_clusters, &mut diagonal);
+        let bodies = BodyPart::new(&jac, flex, map, &body, &mut diagonal);
         let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
-        scratch.places(jac, map, &outside);
-        scratch.columns(jac, flex);
-        let explicit = scratch.csr(jac);
+        scratch.places(&jac, map, &outside);
+        scratch.columns(&jac, flex);
+        let explicit = scratch.csr(&jac);
         for (r, d) in diagonal.iter_mut().enumerate() {
             *d += explicit.get(r, r).copied().unwrap_or(0.0);
         }
-        ContactOperator { explicit, factored, bodies, diagonal }
+        ContactOperator { jac, explicit, factored, bodies, diagonal }
+    }
+
+    /// B, as the rows built it.
+    pub fn jacobian(&self) -> &Jacobian {
+        &self.jac
+    }
+
+    /// B, for its storage to be reused.
+    pub fn into_jacobian(self) -> Jacobian {
+        self.jac
     }
 
     /// Whether some cluster is in operator form.
@@ -154,19 +168,15 @@ impl Operator for ContactOperator {
 
     fn apply(&self, z: &[f64], out: &mut [f64]) {
         self.explicit.apply(z, out);
-        self.bodies.apply(z, out);
+        self.bodies.apply(&self.jac, z, out);
         let mut t = Vec::with_capacity(self.factored.iter().map(|f| f.n).max().unwrap_or(0));
         for f in &self.factored {
             t.clear();
             t.resize(f.n, 0.0);
-            for s in &f.segments {
-                for i in 0..s.len {
-                    t[s.start + i] += s.vals[i] * z[s.row];
-                }
-            }
+            f.segments.transpose_apply(z, |_| true, &mut t);
             f.solver.solve(&mut t);
-            for s in &f.segments {
-                out[s.row] += s.dot(&t);
+            for s in f.segments.segments() {
+                out[s.row()] += f.segments.dot(s, &t);
             }
         }
     }
@@ -185,7 +195,7 @@ impl Operator for ContactOperator {
         if !self.factored.is_empty() || !self.explicit.row_bounds(sc, out) {
             return false;
         }
-        self.bodies.row_bounds(sc, out);
+        self.bodies.row_bounds(&self.jac, sc, out);
         true
     }
 
@@ -194,7 +204,7 @@ impl Operator for ContactOperator {
         if !self.factored.is_empty() || !self.explicit.entries(keep, out) {
             return false;
         }
-        self.bodies.entries(keep, out);
+        self.bodies.entries(&self.jac, keep, out);
         true
     }
 }
@@ -203,8 +213,8 @@ impl Operator for ContactOperator {
 /// upper bound is enough for the switch).
 fn cluster_row_counts(jac: &Jacobian, map: &DofMap) -> Vec<usize> {
     let mut counts = vec![0usize; map.clusters()];
-    for s in &jac.segments {
-        counts[s.cluster] += 1;
+    for s in jac.segments() {
+        counts[s.cluster()] += 1;
     }
     counts
 }
@@ -222,34 +232,33 @@ fn factored_parts(
             factored[c].then(|| FactoredCluster {
                 n: map.cluster_range(c).len(),
                 solver: flex.solver(c),
-                segments: Vec::new(),
+                segments: Jacobian::with_rows(jac.rows),
             })
         })
         .collect();
-    for s in jac.segments.iter().filter(|s| factored[s.cluster]) {
-        let base = map.cluster_range(s.cluster).start;
-        if let Some(part) = &mut parts[s.cluster] {
-            part.segments.push(Segment { start: s.start - base, ..*s });
+    for s in jac.segments().iter().filter(|s| factored[s.cluster()]) {
+        let base = map.cluster_range(s.cluster()).start;
+        if let Some(part) = &mut parts[s.cluster()] {
+            part.segments.push_slice(s.row(), s.cluster(), s.start() - base, jac.vals(s));
         }
     }
     let mut parts: Vec<FactoredCluster> = parts.into_iter().flatten().collect();
     for part in &mut parts {
-        part.segments.sort_by_key(|s| s.row); // stable: a row's segments become consecutive
+        part.segments.sort_by_row();
     }
     for part in &parts {
         // W_rr = B_r|c · K̃_c⁻¹ B_rᵀ|c, one solve per row (its segments are consecutive)
+        let (b, segments) = (&part.segments, part.segments.segments());
         let mut k = 0;
-        while k < part.segments.len() {
-            let row = part.segments[k].row;
-            let end = k + part.segments[k..].iter().take_while(|s| s.row == row).count();
+        while k < segments.len() {
+            let row = segments[k].row();
+            let end = k + segments[k..].iter().take_while(|s| s.row() == row).count();
             let mut col = vec![0.0; part.n];
-            for s in &part.segments[k..end] {
-                for i in 0..s.len {
-                    col[s.start + i] += s.vals[i];
-                }
+            for s in &segments[k..end] {
+                col[s.dofs()].iter_mut().zip(b.vals(s)).for_each(|(x, v)| *x += v);
             }
             part.solver.solve(&mut col);
-            diagonal[row] += part.segments[k..end].iter().map(|s| s.dot(&col)).sum::<f64>();
+            diagonal[row] += segments[k..end].iter().map(|s| b.dot(s, &col)).sum::<f64>();
             k = end;
         }
     }
@@ -263,9 +272,9 @@ impl Scratch {
         let clusters = map.clusters();
         self.sets.resize_with(clusters, Vec::new);
         self.sets.iter_mut().for_each(Vec::clear);
-        let local = |s: &Segment| s.start - map.cluster_range(s.cluster).start;
-        for s in jac.segments.iter().filter(|s| flex.is_sparse(s.cluster)) {
-            self.sets[s.cluster].extend(local(s)..local(s) + s.len);
+        let local = |s: &Segment| s.start() - map.cluster_range(s.cluster()).start;
+        for s in jac.segments().iter().filter(|s| flex.is_sparse(s.cluster())) {
+            self.sets[s.cluster()].extend(local(s)..local(s) + s.width());
         }
         for set in &mut self.sets {
             set.sort_unstable();
@@ -277,9 +286,9 @@ impl Scratch {
                 .map(|c| if flex.is_sparse(c) { self.sets[c].len() } else { map.cluster_range(c).len() }),
         );
         self.seg_at.clear();
-        for s in &jac.segments {
-            let set = &self.sets[s.cluster];
-            self.seg_at.push(if flex.is_sparse(s.cluster) {
+        for s in jac.segments() {
+            let set = &self.sets[s.cluster()];
+            self.seg_at.push(if flex.is_sparse(s.cluster()) {
                 set.partition_point(|&d| d < local(s))
             } else {
                 local(s)
@@ -294,8 +303,8 @@ impl Scratch {
         let start = &mut self.cluster_start;
         start.clear();
         start.resize(clusters + 1, 0);
-        for s in jac.segments.iter().filter(|s| !factored[s.cluster]) {
-            start[s.cluster + 1] += 1;
+        for s in jac.segments().iter().filter(|s| !factored[s.cluster()]) {
+            start[s.cluster() + 1] += 1;
         }
         for c in 0..clusters {
             start[c + 1] += start[c];
@@ -303,9 +312,9 @@ impl Scratch {
         self.order.clear();
         self.order.resize(start[clusters], 0);
         let mut next = start[..clusters].to_vec();
-        for (si, s) in jac.segments.iter().enumerate().filter(|(_, s)| !factored[s.cluster]) {
-            self.order[next[s.cluster]] = si;
-            next[s.cluster] += 1;
+        for (si, s) in jac.segments().iter().enumerate().filter(|(_, s)| !factored[s.cluster()]) {
+            self.order[next[s.cluster()]] = si;
+            next[s.cluster()] += 1;
         }
         self.place_row.clear();
         self.place_seg.clear();
@@ -313,10 +322,10 @@ impl Scratch {
         self.cluster_place.clear();
         for c in 0..clusters {
             let part = &mut self.order[start[c]..start[c + 1]];
-            part.sort_by_key(|&si| jac.segments[si].row);
+            part.sort_by_key(|&si| jac.segments()[si].row());
             self.cluster_place.push(self.place_row.len());
             for (k, &si) in part.iter().enumerate() {
-                let row = jac.segments[si].row;
+                let row = jac.segments()[si].row();
                 if k == 0 || self.place_row.last() != Some(&row) {
                     self.place_row.push(row);
                     self.place_seg.push(start[c] + k);
@@ -338,9 +347,9 @@ impl Scratch {
         for p in 0..self.place_row.len() {
             self.place_term.push(self.term_at.len());
             for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
-                let (s, at) = (&jac.segments[si], self.seg_at[si]);
-                self.term_at.extend(at..at + s.len);
-                self.term_val.extend_from_slice(&s.vals.as_slice()[..s.len]);
+                let (s, at) = (&jac.segments()[si], self.seg_at[si]);
+                self.term_at.extend(at..at + s.width());
+                self.term_val.extend_from_slice(jac.vals(s));
             }
         }
         self.place_term.push(self.term_at.len());
@@ -367,14 +376,14 @@ impl Scratch {
                 block = flex.inverse_block(c, &self.sets[c]).map(|g| (c, g));
             }
             for &si in segments {
-                let (s, at) = (&jac.segments[si], self.seg_at[si]);
-                for i in (0..s.len).filter(|&i| s.vals[i] != 0.0) {
+                let (s, at) = (&jac.segments()[si], self.seg_at[si]);
+                for (i, &v) in jac.vals(s).iter().enumerate().filter(|(_, v)| **v != 0.0) {
                     match &block {
                         Some((_, g)) => {
                             let g = &g[(at + i) * len..(at + i + 1) * len];
-                            col.iter_mut().zip(g).for_each(|(x, gi)| *x += s.vals[i] * gi);
+                            col.iter_mut().zip(g).for_each(|(x, gi)| *x += v * gi);
                         }
-                        None => col[at + i] += s.vals[i],
+                        None => col[at + i] += v,
                     }
                 }
             }

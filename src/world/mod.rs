@@ -90,7 +90,7 @@ pub struct Pipeline {
 impl Pipeline {
     /// Keeps the storage of rows that are no longer needed for the next ones.
     fn recycle(&mut self, rows: rows::Rows) {
-        self.rows.spare.push(rows.jac);
+        self.rows.spare.push(rows.w.into_jacobian());
     }
 }
 

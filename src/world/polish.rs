@@ -97,10 +97,11 @@ impl World {
             return false;
         }
         let mut b = DMatrix::<f64>::zeros(free.len(), bodies.dofs);
-        for s in &rows.jac.segments {
-            if let Ok(i) = free.binary_search(&s.row) {
-                for k in 0..s.len {
-                    b[(i, bodies.local(s.cluster, s.start + k))] += s.vals[k];
+        let jac = rows.jac();
+        for s in jac.segments() {
+            if let Ok(i) = free.binary_search(&s.row()) {
+                for (dof, v) in s.dofs().zip(jac.vals(s)) {
+                    b[(i, bodies.local(s.cluster(), dof))] += v;
                 }
             }
         }
@@ -156,7 +157,7 @@ impl World {
 
     /// The single-body clusters the rows touch, or `None` if a sparse cluster is among them.
     fn polish_bodies(&self, rows: &Rows) -> Option<Bodies<'_>> {
-        let mut clusters: Vec<usize> = rows.jac.segments.iter().map(|s| s.cluster).collect();
+        let mut clusters: Vec<usize> = rows.jac().segments().iter().map(|s| s.cluster()).collect();
         clusters.sort_unstable();
         clusters.dedup();
         let kinv = clusters.iter().map(|&c| self.flex.body_inverse(c)).collect::<Option<Vec<_>>>()?;
@@ -172,10 +173,10 @@ impl World {
 
     /// Gaps `q + B K̃⁻¹ Bᵀ z` summed body by body in double-double (module docs, step 1).
     fn exact_gaps(&self, rows: &Rows, q: &[f64], z: &[f64], bodies: &Bodies) -> Vec<f64> {
-        let mut force = vec![Exact::default(); bodies.dofs];
-        for s in &rows.jac.segments {
-            for k in 0..s.len {
-                force[bodies.local(s.cluster, s.start + k)].add_product(s.vals[k], z[s.row]);
+        let (mut force, jac) = (vec![Exact::default(); bodies.dofs], rows.jac());
+        for s in jac.segments() {
+            for (dof, &v) in s.dofs().zip(jac.vals(s)) {
+                force[bodies.local(s.cluster(), dof)].add_product(v, z[s.row()]);
             }
         }
         let mut d = vec![0.0; bodies.dofs];
@@ -190,9 +191,9 @@ impl World {
             }
         }
         let mut gaps: Vec<Exact> = q.iter().map(|&v| Exact { hi: v, lo: 0.0 }).collect();
-        for s in &rows.jac.segments {
-            for k in 0..s.len {
-                gaps[s.row].add_product(s.vals[k], d[bodies.local(s.cluster, s.start + k)]);
+        for s in jac.segments() {
+            for (dof, &v) in s.dofs().zip(jac.vals(s)) {
+                gaps[s.row()].add_product(v, d[bodies.local(s.cluster(), dof)]);
             }
         }
         gaps.into_iter().map(Exact::value).collect()

@@ -8,7 +8,7 @@
 
 use super::World;
 use super::detect::Contact;
-use crate::body::Dofs;
+use crate::body::MAX_DOF;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
 use crate::jacobian::Jacobian;
@@ -39,14 +39,21 @@ pub(super) struct Scratch {
     pub spare: Vec<Jacobian>,
 }
 
-/// The VI's input: B, q = offsets + B d^f, W = B K̃⁻¹ Bᵀ and the per-contact row blocks.
+/// The VI's input: B (kept by W), q = offsets + B d^f, W = B K̃⁻¹ Bᵀ and the per-contact row
+/// blocks.
 pub(super) struct Rows {
     pub lin: Vec<Linearization>,
-    pub jac: Jacobian,
     pub q: Vec<f64>,
     pub w: delassus::ContactOperator,
     /// Contact k owns rows blocks[k]..blocks[k + 1].
     pub blocks: Vec<usize>,
+}
+
+impl Rows {
+    /// B.
+    pub fn jac(&self) -> &Jacobian {
+        self.w.jacobian()
+    }
 }
 
 impl World {
@@ -78,26 +85,20 @@ impl World {
         // single bodies in body form, except for NSGS, whose sweeps read W's rows (math note §3.3)
         let bodies = self.model.solver.method.resolve() != Method::Nsgs;
         let w = delassus::ContactOperator::with_scratch(
-            &jac,
+            jac,
             &self.flex,
             &self.dofs,
             limit,
             bodies,
             &mut scratch.assembly,
         );
-        Rows { lin, jac, q, w, blocks }
+        Rows { lin, q, w, blocks }
     }
 
     /// Rows normal, tangent and rolling of one contact on its two bodies (math note §3.1,
     /// §4.4: the rolling couple acts on θ alone, on a block too).
     fn push_contact(&self, jac: &mut Jacobian, c: &Contact, l: &Linearization, rigid: bool) {
         let (n, tau, r) = (l.normal, cw(l.normal), c.law.row);
-        let keep = |mut row: Dofs| {
-            if rigid {
-                row.rows_mut(3, 3).fill(0.0);
-            }
-            row
-        };
         for ((body, sign), x) in [(c.geom.a, 1.0), (c.geom.b, -1.0)].into_iter().zip(l.anchor) {
             let b = &self.bodies[body];
             let Some(cluster) = self.dofs.cluster_of(body) else { continue };
@@ -108,20 +109,24 @@ impl World {
                 for (node, w) in fe.edge_weights(x) {
                     let Some(d) = fe.pattern.dof(node).filter(|_| w != 0.0) else { continue };
                     for (row, dir) in [(r, n), (r + 1, tau)] {
-                        let mut vals = Dofs::zeros();
-                        (vals[0], vals[1]) = (sign * w * dir.x, sign * w * dir.y);
-                        jac.push(row, cluster, range.start + d, 2, vals);
+                        jac.push_slice(row, cluster, range.start + d, &[sign * w * dir.x, sign * w * dir.y]);
                     }
                 }
                 continue;
             }
-            let mut push = |row: usize, vals: Dofs| jac.push(row, cluster, range.start, range.len(), vals);
-            push(r, keep(b.shape_row(x, n) * sign));
-            push(r + 1, keep(b.shape_row(x, tau) * sign));
+            let len = range.len();
+            for (row, dir) in [(r, n), (r + 1, tau)] {
+                let mut vals = [0.0; MAX_DOF];
+                b.scaled_shape_row(x, dir, sign, &mut vals);
+                if rigid {
+                    vals[3..].fill(0.0); // the strain columns
+                }
+                jac.push_slice(row, cluster, range.start, &vals[..len]);
+            }
             if c.law.rolling > 0.0 {
-                let mut couple = Dofs::zeros();
+                let mut couple = [0.0; MAX_DOF];
                 couple[2] = sign;
-                push(r + 2, couple);
+                jac.push_slice(r + 2, cluster, range.start, &couple[..len]);
             }
         }
     }

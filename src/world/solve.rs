@@ -331,7 +331,7 @@ impl World {
     /// K̃⁻¹ Bᵀ z over the rows `keep` selects (paper eq. 22: d^p = K⁻¹ C p).
     pub(super) fn response(&self, rows: &Rows, z: &[f64], keep: impl Fn(usize) -> bool) -> Vec<f64> {
         let mut out = vec![0.0; self.dofs.total()];
-        rows.jac.transpose_apply(z, keep, &mut out);
+        rows.jac().transpose_apply(z, keep, &mut out);
         self.flex.solve_in_place(&self.dofs, &mut out);
         out
     }
