@@ -309,6 +309,19 @@ impl Body {
         b
     }
 
+    /// The strain B d of the increment d (math note §2.3), read off the strain DOFs: the product
+    /// with [`Self::strain_map`] adds only exact zeros to them for finite d, so this is the same
+    /// number without building and multiplying a 3 × 6 matrix for every body and every point
+    /// moved (the product spread a non-finite rigid DOF into NaN strains; this keeps an
+    /// infinite motion infinite).
+    fn strain_of(&self, d: &Dofs) -> Vector3<f64> {
+        match self.ndof() {
+            4 => Vector3::new(d[3], d[3], 0.0),
+            6 => Vector3::new(d[3], d[4], d[5]),
+            _ => Vector3::zeros(),
+        }
+    }
+
     /// Elastic stiffness K_e = S Bᵀ D B (math note §2.3; for a particle K_44 =
     /// 2πE(RE² − RI²)/(1 − ν) in plane stress). Zero for rigid bodies.
     pub fn elastic_stiffness(&self) -> BodyMatrix {
@@ -383,7 +396,7 @@ impl Body {
         if self.fixed {
             return 0.0;
         }
-        let strain = self.strain_map() * d;
+        let strain = self.strain_of(d);
         Vec2::new(d[0], d[1]).norm() + (d[2].abs() + strain.abs().sum()) * self.reach
     }
 
@@ -396,7 +409,7 @@ impl Body {
         }
         let (s, c) = d[2].sin_cos();
         let r = x - self.centroid;
-        let e = self.strain_map() * d;
+        let e = self.strain_of(d);
         let rotated = Vec2::new(c * r.x - s * r.y, s * r.x + c * r.y);
         let strained = Vec2::new(e[0] * r.x + 0.5 * e[2] * r.y, 0.5 * e[2] * r.x + e[1] * r.y);
         self.centroid + Vec2::new(d[0], d[1]) + rotated + strained
@@ -408,7 +421,7 @@ impl Body {
         if self.fixed {
             return;
         }
-        let de = self.strain_map() * d;
+        let de = self.strain_of(d);
         let moved: Option<Vec<Vec2>> = match &self.outline {
             Outline::Polygon { vertices, .. } => {
                 Some(vertices.iter().map(|&v| self.moved_point(v, d)).collect())

@@ -217,6 +217,11 @@ fn matches_w(
     Ok(())
 }
 
+/// W of `jac` with every single body in body form, as the world's rows build it.
+fn body_form(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> delassus::ContactOperator {
+    delassus::ContactOperator::with_scratch(jac.clone(), flex, map, usize::MAX, true, &mut Default::default())
+}
+
 /// The body form (math note §3.3: single bodies applied through K̃_c⁻¹, the rest explicit)
 /// against the assembled W: products with the unit vectors and the diagonal within 1e-10 of W's
 /// largest entry (the same sums in another order, ~1e-16 each); its row bounds of Ŵ = S W S
@@ -230,14 +235,7 @@ fn check_body_form(
     w: impl Fn(usize, usize) -> f64,
 ) -> Result<(), TestCaseError> {
     let rows = jac.rows;
-    let op = delassus::ContactOperator::with_scratch(
-        jac.clone(),
-        flex,
-        map,
-        usize::MAX,
-        true,
-        &mut Default::default(),
-    );
+    let op = body_form(jac, flex, map);
     matches_w(&op, rows, &w, "body form")?;
     let sc: Vec<f64> = (0..rows).map(|r| if w(r, r) > 0.0 { 1.0 / w(r, r).sqrt() } else { 1.0 }).collect();
     let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w(r, c) * sc[c]);
@@ -324,14 +322,7 @@ fn scaled_norm_and_bounds(map: &DofMap, flex: &Flexibility, jac: &Jacobian) -> (
         (0..rows).map(|r| if w[[r, r]] > 0.0 { 1.0 / w[[r, r]].sqrt() } else { 1.0 }).collect();
     let hat = DMatrix::from_fn(rows, rows, |r, c| sc[r] * w[[r, c]] * sc[c]);
     let gershgorin = hat.row_iter().map(|r| r.iter().map(|x| x.abs()).sum::<f64>()).fold(0.0, f64::max);
-    let op = delassus::ContactOperator::with_scratch(
-        jac.clone(),
-        flex,
-        map,
-        usize::MAX,
-        true,
-        &mut Default::default(),
-    );
+    let op = body_form(jac, flex, map);
     let mut bound = vec![0.0; rows];
     assert!(op.row_bounds(&sc, &mut bound));
     (SymmetricEigen::new(hat).eigenvalues.max(), bound, gershgorin)

@@ -83,8 +83,8 @@ impl BodyPart {
                 // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
                 // instructions of a 21 M warm step on the 1,000-disk pile)
                 for j in 0..n {
-                    part.kinv.extend_from_slice(&k.column(j).as_slice()[..n]);
-                    part.root.extend_from_slice(&r.column(j).as_slice()[..n]);
+                    copy_head(&mut part.kinv, k.column(j).as_slice(), n);
+                    copy_head(&mut part.root, r.column(j).as_slice(), n);
                 }
                 part.packed.push(part.packed[b] + n * (n + 1) / 2);
             }
@@ -335,6 +335,15 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
+}
+
+/// Appends v[..n] to `to`: a rigid body's three values as three stores, not a call to memcpy
+/// (which took 1.7 % of a warm step of the 1,000-disk pile, perf).
+fn copy_head(to: &mut Vec<f64>, v: &[f64], n: usize) {
+    match n {
+        3 => to.extend([v[0], v[1], v[2]]),
+        _ => to.extend_from_slice(&v[..n]),
+    }
 }
 
 /// u[..N] += x t[..N], unrolled.
