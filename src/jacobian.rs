@@ -11,7 +11,7 @@
 use crate::body::{Dofs, MAX_DOF};
 
 /// The part of one row of B on one DOF range, in 20 bytes: its entries are the Jacobian's
-/// `vals[val..val + len]` ([`Jacobian::vals`]). The products stream over every segment several
+/// `vals[val..val + width]` ([`Jacobian::vals`]). The products stream over every segment several
 /// times a step, and from about 10,000 disks B no longer fits the caches (math note §3.3); with
 /// usize fields and the six entries inline a segment took 80 bytes. u32 indices hold every
 /// problem that fits in memory: 2³² segments would take 86 GB, 2³² values 34 GB.
@@ -23,7 +23,7 @@ pub struct Segment {
     /// First DOF (global, or cluster-local in a cluster's own copy).
     start: u32,
     /// Number of DOFs (1 to 6).
-    len: u32,
+    width: u32,
     val: u32,
 }
 
@@ -38,7 +38,7 @@ impl Segment {
         self.start as usize
     }
     pub fn width(&self) -> usize {
-        self.len as usize
+        self.width as usize
     }
     /// Its DOFs.
     pub fn dofs(&self) -> std::ops::Range<usize> {
@@ -96,8 +96,8 @@ impl Jacobian {
         // the u32 fields (see `Segment`)
         debug_assert!(row.max(cluster).max(start + vals.len()).max(self.vals.len()) < u32::MAX as usize);
         let (row, cluster, start) = (row as u32, cluster as u32, start as u32);
-        let (len, val) = (vals.len() as u32, self.vals.len() as u32);
-        self.segments.push(Segment { row, cluster, start, len, val });
+        let (width, val) = (vals.len() as u32, self.vals.len() as u32);
+        self.segments.push(Segment { row, cluster, start, width, val });
         match vals.len() {
             // a rigid body's segment: three stores, not a call to memcpy
             3 => self.vals.extend([vals[0], vals[1], vals[2]]),
