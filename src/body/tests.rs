@@ -1,0 +1,93 @@
+use super::*;
+use crate::geometry::tests::l_shape;
+
+fn spec(shape: Shape, model: BodyModel) -> BodySpec {
+    BodySpec {
+        name: "b".into(),
+        shape,
+        model,
+        material: 0,
+        fixed: false,
+        velocity: Vec2::zeros(),
+        angular_velocity: 0.0,
+        initial_stress: None,
+    }
+}
+
+fn material() -> Material {
+    Material { name: "m".into(), density: 2.5, young: Some(3.0e9), poisson: Some(0.3) }
+}
+
+/// ρ ∫ Tᵀ T dA over a triangle fan, with the 3-point (edge-midpoint) rule, exact for the
+/// quadratic integrand: the reference for the closed-form mass matrices of math note §2.2.
+fn quadrature_mass(body: &Body, vertices: &[Vec2]) -> BodyMatrix {
+    let rho = 2.5;
+    let mut m = BodyMatrix::zeros();
+    let o = vertices[0];
+    for i in 1..vertices.len() - 1 {
+        let (a, b) = (vertices[i], vertices[i + 1]);
+        let area = 0.5 * cross(a - o, b - o);
+        for x in [(o + a) / 2.0, (a + b) / 2.0, (b + o) / 2.0] {
+            let tx = body.shape_row(x, Vec2::x());
+            let ty = body.shape_row(x, Vec2::y());
+            m += (tx * tx.transpose() + ty * ty.transpose()) * (rho * area / 3.0);
+        }
+    }
+    m
+}
+
+/// Closed-form mass matrices (rigid 3×3, deformable 6×6) against exact quadrature of
+/// ρ ∫ Tᵀ T dA on a concave L-shape; tolerance: round-off of O(10) terms.
+#[test]
+fn polygon_mass_matrices_match_quadrature() {
+    for model in [BodyModel::Rigid, BodyModel::Deformable] {
+        let body =
+            Body::new(&spec(Shape::Polygon { vertices: l_shape() }, model), &material(), Plane::Stress);
+        let exact = quadrature_mass(&body, &l_shape());
+        assert!((body.mass_matrix() - exact).amax() < 1e-12, "{model:?}: {}", body.mass_matrix() - exact);
+    }
+}
+
+/// Disk and ring: M = ρ diag(A, A, J(, J)), J = ρπ(RE⁴ − RI⁴)/2 (math note §2.2, eq. A.9).
+#[test]
+fn particle_mass_matrices() {
+    use std::f64::consts::PI;
+    let ring = Shape::Ring { center: Vec2::new(1.0, 2.0), outer: 3.0, inner: 1.0 };
+    let body = Body::new(&spec(ring, BodyModel::Deformable), &material(), Plane::Stress);
+    let (a, j) = (PI * 8.0, PI * 80.0 / 2.0);
+    let m = body.mass_matrix();
+    for (i, v) in [a, a, j, j].iter().enumerate() {
+        assert!((m[(i, i)] - 2.5 * v).abs() < 1e-12 * 2.5 * v);
+    }
+    assert_eq!(m.iter().filter(|x| **x != 0.0).count(), 4);
+}
+
+/// Math note §2.3: K_44 = 2πE(RE² − RI²)/(1 − ν) in plane stress and
+/// 2πE(RE² − RI²)/((1 + ν)(1 − 2ν)) in plane strain (the paper's A.4 is half of it).
+#[test]
+fn particle_stiffness_is_the_corrected_one() {
+    use std::f64::consts::PI;
+    let (e, nu) = (3.0e9, 0.3);
+    let ring = Shape::Ring { center: Vec2::zeros(), outer: 3.0, inner: 1.0 };
+    let stress = Body::new(&spec(ring.clone(), BodyModel::Deformable), &material(), Plane::Stress);
+    let strain = Body::new(&spec(ring, BodyModel::Deformable), &material(), Plane::Strain);
+    let k_stress = 2.0 * PI * e * 8.0 / (1.0 - nu);
+    let k_strain = 2.0 * PI * e * 8.0 / ((1.0 + nu) * (1.0 - 2.0 * nu));
+    assert!((stress.elastic_stiffness()[(3, 3)] - k_stress).abs() < 1e-12 * k_stress);
+    assert!((strain.elastic_stiffness()[(3, 3)] - k_strain).abs() < 1e-12 * k_strain);
+}
+
+/// Post-adjusted update (paper eq. 16): a rigid rotation by θ = π/2 of a square is exact,
+/// so the vertices keep their distances from the centroid to round-off.
+#[test]
+fn rigid_rotation_is_exact() {
+    let sq = vec![Vec2::new(-1.0, -1.0), Vec2::new(1.0, -1.0), Vec2::new(1.0, 1.0), Vec2::new(-1.0, 1.0)];
+    let mut body =
+        Body::new(&spec(Shape::Polygon { vertices: sq }, BodyModel::Rigid), &material(), Plane::Stress);
+    let mut d = Dofs::zeros();
+    d[2] = std::f64::consts::FRAC_PI_2;
+    body.apply_increment(&d);
+    let Outline::Polygon { vertices, .. } = &body.outline else { unreachable!() };
+    assert!((vertices[0] - Vec2::new(1.0, -1.0)).norm() < 1e-15);
+    assert!((body.rotation - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
+}
