@@ -291,22 +291,10 @@ impl Body {
     }
 
     /// The strain map B: strain (εx, εy, γxy) = B d (math note §2.3; a particle's ε acts on
-    /// εx and εy alike).
+    /// εx and εy alike), column j the strain of the unit increment e_j ([`Self::strain_of`],
+    /// the one place the map is written).
     fn strain_map(&self) -> SMatrix<f64, 3, MAX_DOF> {
-        let mut b = SMatrix::<f64, 3, MAX_DOF>::zeros();
-        match self.ndof() {
-            4 => {
-                b[(0, 3)] = 1.0;
-                b[(1, 3)] = 1.0;
-            }
-            6 => {
-                b[(0, 3)] = 1.0;
-                b[(1, 4)] = 1.0;
-                b[(2, 5)] = 1.0;
-            }
-            _ => {}
-        }
-        b
+        SMatrix::from_columns(&std::array::from_fn::<_, MAX_DOF, _>(|j| self.strain_of(&Dofs::ith(j, 1.0))))
     }
 
     /// The strain B d of the increment d (math note §2.3), read off the strain DOFs: the product
@@ -357,12 +345,12 @@ impl Body {
     }
 
     /// [`Self::shape_row`] times `s` into `out[..ndof]` (each entry computed as there, then
-    /// multiplied by s), returning ndof: B's rows go straight into the Jacobian this way, with
-    /// no six-vector built, scaled and copied per row.
-    pub fn scaled_shape_row(&self, x: Vec2, dir: Vec2, s: f64, out: &mut [f64]) -> usize {
+    /// multiplied by s): B's rows go straight into the Jacobian this way, with no six-vector
+    /// built, scaled and copied per row.
+    pub fn scaled_shape_row(&self, x: Vec2, dir: Vec2, s: f64, out: &mut [f64]) {
         let n = self.ndof();
         if n == 0 {
-            return 0;
+            return;
         }
         let r = x - self.centroid;
         out[0] = dir.x * s;
@@ -375,7 +363,6 @@ impl Body {
             out[4] = (r.y * dir.y) * s;
             out[5] = (0.5 * (r.y * dir.x + r.x * dir.y)) * s;
         }
-        n
     }
 
     /// Displacement `T(x) d` of the material point at `x` (linearized).

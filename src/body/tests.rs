@@ -91,3 +91,43 @@ fn rigid_rotation_is_exact() {
     assert!((vertices[0] - Vec2::new(1.0, -1.0)).norm() < 1e-15);
     assert!((body.rotation - std::f64::consts::FRAC_PI_2).abs() < 1e-15);
 }
+
+/// The strain map of math note §2.3, written out: a particle's ε (DOF 3) acts on εx and εy; a
+/// deformable block's (εx, εy, γxy) are DOFs 3, 4, 5; a rigid body has none. `strain_map` is
+/// built from `strain_of`, so this checks both against the note. For finite d, `strain_of(d)`
+/// is the product `strain_map() d` bit for bit (its other terms are exact zeros), and
+/// `scaled_shape_row(x, dir, s)` is `shape_row(x, dir) s` bit for bit (each entry computed as
+/// there, then multiplied by s), with the entries past ndof untouched. Bit-exact by
+/// construction: any tolerance would hide a changed operation order.
+#[test]
+fn strain_and_scaled_rows_match_their_definitions() {
+    let polygon = Shape::Polygon { vertices: l_shape() };
+    let disk = Shape::Disk { center: Vec2::new(0.3, -0.2), radius: 0.7 };
+    let mut map = [SMatrix::<f64, 3, MAX_DOF>::zeros(); 3];
+    (map[1][(0, 3)], map[1][(1, 3)]) = (1.0, 1.0);
+    (map[2][(0, 3)], map[2][(1, 4)], map[2][(2, 5)]) = (1.0, 1.0, 1.0);
+    let cases = [
+        (disk.clone(), BodyModel::Rigid, 3),
+        (disk, BodyModel::Deformable, 4),
+        (polygon, BodyModel::Deformable, 6),
+    ];
+    let d = Dofs::from_column_slice(&[0.1, -0.25, 0.03, 1.5e-4, -2.5e-4, 3.5e-4]);
+    let (x, dir) = (Vec2::new(0.9, 0.4), Vec2::new(0.6, -0.8));
+    for ((shape, model, n), want) in cases.into_iter().zip(map) {
+        let body = Body::new(&spec(shape, model), &material(), Plane::Stress);
+        assert_eq!(body.ndof(), n);
+        assert_eq!(body.strain_map(), want, "ndof {n}");
+        assert_eq!(
+            body.strain_of(&d).map(f64::to_bits),
+            (body.strain_map() * d).map(f64::to_bits),
+            "ndof {n}"
+        );
+        for s in [1.0, -1.0, 0.37] {
+            let mut out = [f64::NAN; MAX_DOF];
+            body.scaled_shape_row(x, dir, s, &mut out);
+            let want = body.shape_row(x, dir) * s;
+            assert!((0..n).all(|i| out[i].to_bits() == want[i].to_bits()), "ndof {n}, s {s}: {out:?}");
+            assert!(out[n..].iter().all(|v| v.is_nan()), "ndof {n}: wrote past ndof");
+        }
+    }
+}

@@ -16,7 +16,7 @@
 use crate::body::MAX_DOF;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
-use crate::jacobian::{Jacobian, Segment, dot, dot_n};
+use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small};
 use std::sync::Mutex;
 
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
@@ -83,14 +83,13 @@ impl BodyPart {
                 // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
                 // instructions of a 21 M warm step on the 1,000-disk pile)
                 for j in 0..n {
-                    copy_head(&mut part.kinv, k.column(j).as_slice(), n);
-                    copy_head(&mut part.root, r.column(j).as_slice(), n);
+                    extend_small(&mut part.kinv, &k.column(j).as_slice()[..n]);
+                    extend_small(&mut part.root, &r.column(j).as_slice()[..n]);
                 }
                 part.packed.push(part.packed[b] + n * (n + 1) / 2);
             }
         }
-        part.count = part.segs(jac).count();
-        part.add_diagonal(jac, diagonal);
+        part.count = part.add_diagonal(jac, diagonal);
         part
     }
 
@@ -100,7 +99,12 @@ impl BodyPart {
 
     /// B's segments on body-form clusters, in push order.
     fn segs<'a>(&'a self, jac: &'a Jacobian) -> impl Iterator<Item = &'a Segment> + Clone + 'a {
-        jac.segments().iter().filter(|s| self.compact[s.cluster()] != NONE)
+        jac.segments().iter().filter(|s| self.on_body(s))
+    }
+
+    /// Whether segment s is on a body-form cluster.
+    fn on_body(&self, s: &Segment) -> bool {
+        self.compact[s.cluster()] != NONE
     }
 
     /// Segment s's body.
@@ -149,12 +153,15 @@ impl BodyPart {
 
     /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
     /// products with the earlier segments of its row on its body (found through a chain per row).
-    fn add_diagonal(&self, jac: &Jacobian, diagonal: &mut [f64]) {
+    /// Returns the number of segments on body-form clusters.
+    fn add_diagonal(&self, jac: &Jacobian, diagonal: &mut [f64]) -> usize {
         // u32 links, as in `Segment`: half the memory to clear each step
         let all = jac.segments();
         let (mut last, mut prev) = (vec![NONE; jac.rows], vec![NONE; all.len()]);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
-        for (i, s) in all.iter().enumerate().filter(|(_, s)| self.compact[s.cluster()] != NONE) {
+        let mut count = 0;
+        for (i, s) in all.iter().enumerate().filter(|(_, s)| self.on_body(s)) {
+            count += 1;
             let mut d = if s.width() == 3 && self.n[self.body(s)] == 3 {
                 // a rigid body's row (the segment covers the body's DOFs), unrolled
                 solve_n::<3>(&self.kinv[self.square[self.body(s)]..], jac.vals(s), &mut x);
@@ -175,6 +182,7 @@ impl BodyPart {
             diagonal[s.row()] += d;
             (prev[i], last[s.row()]) = (last[s.row()], i as u32);
         }
+        count
     }
 
     /// out += W_bodies z.
@@ -231,7 +239,7 @@ impl BodyPart {
     pub fn entries(&self, jac: &Jacobian, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
         let bodies = self.n.len();
         let all = jac.segments();
-        let mine: Vec<usize> = (0..all.len()).filter(|&i| self.compact[all[i].cluster()] != NONE).collect();
+        let mine: Vec<usize> = (0..all.len()).filter(|&i| self.on_body(&all[i])).collect();
         let (order, start) = group(mine.iter().map(|&i| self.body(&all[i])), bodies);
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         for b in 0..bodies {
@@ -335,15 +343,6 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
-}
-
-/// Appends v[..n] to `to`: a rigid body's three values as three stores, not a call to memcpy
-/// (which took 1.7 % of a warm step of the 1,000-disk pile, perf).
-fn copy_head(to: &mut Vec<f64>, v: &[f64], n: usize) {
-    match n {
-        3 => to.extend([v[0], v[1], v[2]]),
-        _ => to.extend_from_slice(&v[..n]),
-    }
 }
 
 /// u[..N] += x t[..N], unrolled.

@@ -120,7 +120,7 @@ fn new_box<R: Rows>(
 ) -> Result<NewBox, Status> {
     st.kept = st.have_prev && kept_start(c, v);
     if st.kept {
-        z.copy_from_slice(&v.z0);
+        answer_into(c, v, st, z);
         return Ok(NewBox { change: 0.0, bmax: st.bmax, same: true });
     }
     if st.have_prev {
@@ -174,6 +174,15 @@ fn new_box<R: Rows>(
     Ok(NewBox { change, bmax, same })
 }
 
+/// z = the unscaled iterate: the warm start itself while y is still it (`State::kept`).
+fn answer_into<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &State, z: &mut [f64]) {
+    if st.kept {
+        z.copy_from_slice(&v.z0);
+    } else {
+        pc::unscale_into(c, v, z);
+    }
+}
+
 /// y is bit for bit the scaled warm start of [`Vectors::start`] (y = sd z0, z0 finite).
 fn kept_start<R: Rows>(c: &Ctx<R>, v: &Vectors) -> bool {
     v.y.iter().zip(&v.z0).zip(c.sd).all(|((&y, &z), &sd)| z.is_finite() && y == z * sd)
@@ -198,11 +207,7 @@ fn finish<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, z: &mut [f64], s
         // No valid box was ever returned: z was not touched.
         Status::InvalidBounds if !st.have_prev => f64::INFINITY,
         _ => {
-            if st.kept {
-                z.copy_from_slice(&v.z0);
-            } else {
-                pc::unscale_into(c, v, z);
-            }
+            answer_into(c, v, st, z);
             if status == Status::InvalidBounds { f64::INFINITY } else { st.res }
         }
     };
