@@ -142,7 +142,13 @@ impl Jacobian {
     pub fn apply(&self, v: &[f64], out: &mut Vec<f64>) {
         out.clear();
         out.resize(self.rows, 0.0);
-        for s in &self.segments {
+        self.add_apply_from(0, v, out);
+    }
+
+    /// `out += B v` over the segments from the `first`-th on, in push order (so a row's sum is
+    /// the same as in [`Jacobian::apply`] when its segments are all from `first` on).
+    pub fn add_apply_from(&self, first: usize, v: &[f64], out: &mut [f64]) {
+        for s in &self.segments[first..] {
             out[s.row()] += self.dot(s, v);
         }
     }
@@ -150,8 +156,14 @@ impl Jacobian {
     /// `out += Bᵀ z` over the rows that `keep` selects.
     pub fn transpose_apply(&self, z: &[f64], keep: impl Fn(usize) -> bool, out: &mut [f64]) {
         for s in self.segments.iter().filter(|s| keep(s.row())) {
-            for (x, v) in out[s.dofs()].iter_mut().zip(self.vals(s)) {
-                *x += v * z[s.row()];
+            let (zr, vals) = (z[s.row()], self.vals(s));
+            match s.width() {
+                // a rigid body's segment, unrolled
+                3 => {
+                    let x = &mut out[s.start()..s.start() + 3];
+                    (0..3).for_each(|i| x[i] += vals[i] * zr);
+                }
+                _ => out[s.dofs()].iter_mut().zip(vals).for_each(|(x, v)| *x += v * zr),
             }
         }
     }

@@ -48,52 +48,51 @@ pub(crate) fn pair_contacts_with(
     tol: &Tolerances,
     out: &mut Vec<ContactGeom>,
 ) {
-    match (Body::of(i, shape_i), Body::of(j, shape_j)) {
-        (Body::Particle(p), Body::Particle(q)) => super::particle::particle_particle(&p, &q, tol, out),
-        (Body::Particle(p), Body::Polygon(b, holes)) | (Body::Polygon(b, holes), Body::Particle(p)) => {
-            for l in std::iter::once(&b).chain(&holes) {
-                super::particle::particle_block(&p, l, tol, out);
+    use super::block::block_block;
+    use super::particle::{particle_block, particle_particle};
+    match (Particle::of(i, shape_i), Particle::of(j, shape_j)) {
+        (Some(p), Some(q)) => particle_particle(&p, &q, tol, out),
+        (Some(p), None) | (None, Some(p)) => {
+            let b = if p.body == i { Outline::of(j, shape_j) } else { Outline::of(i, shape_i) };
+            for l in std::iter::once(&b.outer).chain(&b.holes) {
+                particle_block(&p, l, tol, out);
             }
         }
-        (Body::Polygon(a, a_holes), Body::Polygon(b, b_holes)) => {
+        (None, None) => {
+            let (a, b) = (Outline::of(i, shape_i), Outline::of(j, shape_j));
             // two holes never meet: a body in a hole of the other meets it with its outer loop
-            super::block::block_block(&a, &b, tol, out);
-            for h in &b_holes {
-                super::block::block_block(&a, h, tol, out);
+            block_block(&a.outer, &b.outer, tol, out);
+            for h in &b.holes {
+                block_block(&a.outer, h, tol, out);
             }
-            for h in &a_holes {
-                super::block::block_block(h, &b, tol, out);
+            for h in &a.holes {
+                block_block(h, &b.outer, tol, out);
             }
         }
     }
 }
 
-/// A body as the narrow phase sees it: a particle, or a polygon's outline and a mesh's holes
-/// (no allocation for a polygon without holes).
-enum Body<'a> {
-    Particle(Particle),
-    Polygon(Polygon<'a>, Vec<Polygon<'a>>),
+/// A polygon's outline and a mesh's holes, as the narrow phase sees them (no allocation for the
+/// holes of a polygon without any).
+struct Outline<'a> {
+    outer: Polygon<'a>,
+    holes: Vec<Polygon<'a>>,
 }
 
-impl<'a> Body<'a> {
-    fn of(body: usize, shape: &'a BodyShape) -> Body<'a> {
-        match *shape {
-            BodyShape::Disk { center, radius } => {
-                Body::Particle(Particle { body, center, outer: radius, inner: 0.0 })
-            }
-            BodyShape::Ring { center, outer, inner } => {
-                Body::Particle(Particle { body, center, outer, inner })
-            }
-            BodyShape::Polygon { ref vertices, ref convex, nodes, ref holes } => {
-                let (mut loops, mut first) = (Vec::with_capacity(holes.len()), vertices.len());
-                for h in holes {
-                    let hole = Polygon::new(body, &h.vertices, &h.convex);
-                    loops.push(Polygon { nodes, hole: true, first: first as u32, ..hole });
-                    first += h.vertices.len();
-                }
-                Body::Polygon(Polygon { nodes, ..Polygon::new(body, vertices, convex) }, loops)
-            }
+impl<'a> Outline<'a> {
+    /// The loops of a polygon; a particle has none (an outline without vertices touches
+    /// nothing).
+    fn of(body: usize, shape: &'a BodyShape) -> Outline<'a> {
+        let BodyShape::Polygon { ref vertices, ref convex, nodes, ref holes } = *shape else {
+            return Outline { outer: Polygon::new(body, &[], &[]), holes: Vec::new() };
+        };
+        let (mut loops, mut first) = (Vec::with_capacity(holes.len()), vertices.len());
+        for h in holes {
+            let hole = Polygon::new(body, &h.vertices, &h.convex);
+            loops.push(Polygon { nodes, hole: true, first: first as u32, ..hole });
+            first += h.vertices.len();
         }
+        Outline { outer: Polygon { nodes, ..Polygon::new(body, vertices, convex) }, holes: loops }
     }
 }
 
@@ -151,6 +150,15 @@ pub(crate) struct Particle {
 }
 
 impl Particle {
+    /// The particle of a disk or ring; `None` for a polygon.
+    fn of(body: usize, shape: &BodyShape) -> Option<Particle> {
+        match *shape {
+            BodyShape::Disk { center, radius } => Some(Particle { body, center, outer: radius, inner: 0.0 }),
+            BodyShape::Ring { center, outer, inner } => Some(Particle { body, center, outer, inner }),
+            BodyShape::Polygon { .. } => None,
+        }
+    }
+
     pub fn is_ring(&self) -> bool {
         self.inner > 0.0
     }
