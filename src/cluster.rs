@@ -26,7 +26,11 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
 use rayon::prelude::*;
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
+
+/// The next factor's stamp ([`Flexibility::stamps`]).
+static STAMPS: AtomicU64 = AtomicU64::new(0);
 
 /// A stiffness block coupling two bodies' DOFs (a connector's contribution).
 pub use crate::connector::Coupling as CouplingBlock;
@@ -44,6 +48,8 @@ pub struct FactorError {
 #[derive(Debug, Clone, Default)]
 pub struct Flexibility {
     factors: Vec<Arc<Factor>>,
+    /// Per cluster, the stamp of its factor ([`Flexibility::stamps`]).
+    stamps: Vec<u64>,
     /// Route single bodies through the sparse path too (a reference check of that path).
     sparse_only: bool,
     /// The step length the factors are for (K̃ = K + 2M/dt²): a new one refactors them all.
@@ -87,6 +93,7 @@ impl Flexibility {
     pub fn new(sparse_only: bool) -> Flexibility {
         Flexibility {
             factors: Vec::new(),
+            stamps: Vec::new(),
             sparse_only,
             dt: f64::NAN,
             factor_drift: 0.0,
@@ -128,6 +135,7 @@ impl Flexibility {
         let first = self.factors.len() != map.clusters() || self.dt != dt;
         if first {
             self.factors.clear();
+            self.stamps.clear();
             self.formed.clear();
             self.dt = dt;
         }
@@ -165,13 +173,23 @@ impl Flexibility {
                 self.sparse_factorizations += 1;
                 Factor::Sparse(sparse)
             };
+            let stamp = STAMPS.fetch_add(1, Ordering::Relaxed);
             if first {
                 self.factors.push(Arc::new(factor));
+                self.stamps.push(stamp);
             } else {
                 self.factors[c] = Arc::new(factor);
+                self.stamps[c] = stamp;
             }
         }
         Ok(())
+    }
+
+    /// Per cluster, a stamp that changes exactly when its factor is replaced: no two factors
+    /// formed in one process, in any world, share one. What is derived from the factors can be
+    /// kept while the stamps stay the same (the body form's packed blocks, math note §3.3).
+    pub fn stamps(&self) -> &[u64] {
+        &self.stamps
     }
 
     /// `v ← K̃⁻¹ v` for a vector over cluster `c`'s DOF range.

@@ -354,6 +354,41 @@ fn body_form_bound_lies_between_the_norm_and_gershgorin() {
     assert!(top < gershgorin, "bound {top} not below Gershgorin's {gershgorin}");
 }
 
+/// W's columns (products with the unit vectors) and diagonal, as computed: for bit-for-bit checks.
+fn columns(op: &delassus::ContactOperator, rows: usize) -> Vec<f64> {
+    let mut out = vec![0.0; rows * (rows + 1)];
+    for (c, col) in out.chunks_mut(rows).take(rows).enumerate() {
+        let mut e = vec![0.0; rows];
+        e[c] = 1.0;
+        op.apply(&e, col);
+    }
+    op.diagonal(&mut out[rows * rows..]);
+    out
+}
+
+/// The body form keeps its packed blocks (K̃_c⁻¹ and R_c per body) in the scratch across steps
+/// while the factors stay the same (math note §3.3). An operator built on kept blocks must give
+/// exactly, bit for bit, what one built on fresh blocks gives: with the same factors (kept), and
+/// after every factor changed with a new step length (K̃ = K + 2M/dt², rebuilt), where a
+/// kept stale block would give dt = 0.01's W, a factor 4 off.
+#[test]
+fn body_form_keeps_its_blocks_only_while_the_factors_stay() {
+    let (bodies, map, mut flex, jac) = hexagon(false);
+    let rows = jac.rows;
+    let mut scratch = delassus::Scratch::default();
+    let mut kept = |flex: &Flexibility| {
+        let op = delassus::ContactOperator::with_scratch(jac.clone(), flex, &map, usize::MAX, true, &mut scratch);
+        columns(&op, rows)
+    };
+    let first = kept(&flex);
+    assert_eq!(first, columns(&body_form(&jac, &flex, &map), rows), "first build");
+    assert_eq!(kept(&flex), first, "same factors, kept blocks");
+    flex.refresh(&map, &bodies, &[], 0.02, 0.0).expect("K̃ is SPD");
+    let fresh = columns(&body_form(&jac, &flex, &map), rows);
+    assert_ne!(fresh, first, "a new step length changes W");
+    assert_eq!(kept(&flex), fresh, "new factors, new blocks");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 200, rng_seed: proptest::test_runner::RngSeed::Fixed(20261123), ..ProptestConfig::default() })]
     #[test]

@@ -17,17 +17,19 @@ use crate::body::MAX_DOF;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small};
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
 const NONE: u32 = u32::MAX;
 
-/// The body-form clusters' part of W (see the module docs). It keeps no copy of B: its
-/// products run over the operator's own Jacobian (passed in), whose segments on body-form
-/// clusters it reads in push order (which fixes every sum's order), and its body vectors are
-/// indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
+/// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
+/// from the factors once and kept across steps while the factors and DOF ranges stay the same
+/// ([`Blocks::current`]; math note §3.3). On a pile of rigid disks that is the whole run; the
+/// copy each step cost 30–60 µs of a 1.4 ms fixed work on the 1,000-disk pile.
 #[derive(Debug, Default)]
-pub(super) struct BodyPart {
+pub(super) struct Blocks {
+    /// The stamps of the factors copied ([`Flexibility::stamps`]).
+    stamps: Vec<u64>,
     /// Per cluster, its body (compact index), or `NONE`.
     compact: Vec<u32>,
     /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
@@ -42,23 +44,13 @@ pub(super) struct BodyPart {
     root: Vec<f64>,
     /// The length of the body vectors (B's columns).
     dofs: usize,
-    /// How many of B's segments are on body-form clusters.
-    count: usize,
-    /// Work storage of the products.
-    work: Mutex<Vec<f64>>,
 }
 
-impl BodyPart {
-    /// The part over the clusters with `body[c]` (each a single body with a closed-form K̃⁻¹),
-    /// adding its share of diag(W) to `diagonal`.
-    pub fn new(
-        jac: &Jacobian,
-        flex: &Flexibility,
-        map: &DofMap,
-        body: &[bool],
-        diagonal: &mut [f64],
-    ) -> Self {
-        let mut part = BodyPart {
+impl Blocks {
+    /// The blocks of the clusters with `body[c]` (each a single body with a closed-form K̃⁻¹).
+    pub fn new(flex: &Flexibility, map: &DofMap, body: &[bool]) -> Blocks {
+        let mut blocks = Blocks {
+            stamps: flex.stamps().to_vec(),
             compact: vec![NONE; body.len()],
             packed: vec![0],
             dofs: map.total(),
@@ -66,29 +58,66 @@ impl BodyPart {
         };
         let ns = || (0..body.len()).filter(|&c| body[c]).map(|c| map.cluster_range(c).len());
         let (count, squares) = (ns().count(), ns().map(|n| n * n).sum());
-        part.kinv.reserve(squares);
-        part.root.reserve(squares);
-        part.start.reserve(count);
-        part.n.reserve(count);
-        part.square.reserve(count);
-        part.packed.reserve(count);
+        blocks.kinv.reserve(squares);
+        blocks.root.reserve(squares);
+        blocks.start.reserve(count);
+        blocks.n.reserve(count);
+        blocks.square.reserve(count);
+        blocks.packed.reserve(count);
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
             if let (Some(k), Some(r)) = (flex.body_inverse(c), flex.body_root(c)) {
-                let (range, b) = (map.cluster_range(c), part.n.len());
+                let (range, b) = (map.cluster_range(c), blocks.n.len());
                 let n = range.len();
-                part.compact[c] = b as u32;
-                part.start.push(range.start);
-                part.n.push(n);
-                part.square.push(part.kinv.len());
+                blocks.compact[c] = b as u32;
+                blocks.start.push(range.start);
+                blocks.n.push(n);
+                blocks.square.push(blocks.kinv.len());
                 // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
                 // instructions of a 21 M warm step on the 1,000-disk pile)
                 for j in 0..n {
-                    extend_small(&mut part.kinv, &k.column(j).as_slice()[..n]);
-                    extend_small(&mut part.root, &r.column(j).as_slice()[..n]);
+                    extend_small(&mut blocks.kinv, &k.column(j).as_slice()[..n]);
+                    extend_small(&mut blocks.root, &r.column(j).as_slice()[..n]);
                 }
-                part.packed.push(part.packed[b] + n * (n + 1) / 2);
+                blocks.packed.push(blocks.packed[b] + n * (n + 1) / 2);
             }
         }
+        blocks
+    }
+
+    /// Whether these blocks are what [`Blocks::new`] would make now: the same factors (by
+    /// stamp), the same clusters in body form, at the same DOF ranges.
+    pub fn current(&self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> bool {
+        self.dofs == map.total()
+            && self.stamps == flex.stamps()
+            && self.compact.len() == body.len()
+            && body.iter().zip(&self.compact).enumerate().all(|(c, (&on, &b))| match b {
+                NONE => !on,
+                b => {
+                    on && map.cluster_range(c)
+                        == (self.start[b as usize]..self.start[b as usize] + self.n[b as usize])
+                }
+            })
+    }
+}
+
+/// The body-form clusters' part of W (see the module docs). It keeps no copy of B: its
+/// products run over the operator's own Jacobian (passed in), whose segments on body-form
+/// clusters it reads in push order (which fixes every sum's order), and its body vectors are
+/// indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
+#[derive(Debug, Default)]
+pub(super) struct BodyPart {
+    /// The bodies' ranges and blocks, shared with the scratch that keeps them across steps.
+    blocks: Arc<Blocks>,
+    /// How many of B's segments are on body-form clusters.
+    count: usize,
+    /// Work storage of the products.
+    work: Mutex<Vec<f64>>,
+}
+
+impl BodyPart {
+    /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`.
+    pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
+        let mut part = BodyPart { blocks, ..Default::default() };
         part.count = part.add_diagonal(jac, diagonal);
         part
     }
@@ -104,18 +133,19 @@ impl BodyPart {
 
     /// Whether segment s is on a body-form cluster.
     fn on_body(&self, s: &Segment) -> bool {
-        self.compact[s.cluster()] != NONE
+        self.blocks.compact[s.cluster()] != NONE
     }
 
     /// Segment s's body.
     fn body(&self, s: &Segment) -> usize {
-        self.compact[s.cluster()] as usize
+        self.blocks.compact[s.cluster()] as usize
     }
 
     /// out[..n_b] = K̃_b⁻¹ u[..n_b].
     fn solve(&self, b: usize, u: &[f64], out: &mut [f64]) {
-        let n = self.n[b];
-        let k = &self.kinv[self.square[b]..self.square[b] + n * n];
+        let Blocks { n, kinv, square, .. } = &*self.blocks;
+        let n = n[b];
+        let k = &kinv[square[b]..square[b] + n * n];
         // the common sizes with their loops unrolled (rigid bodies 3, deformable 4 and 6)
         match n {
             3 => solve_n::<3>(k, u, out),
@@ -134,13 +164,13 @@ impl BodyPart {
 
     /// Segment s's first DOF within its body.
     fn local(&self, s: &Segment) -> usize {
-        s.start() - self.start[self.body(s)]
+        s.start() - self.blocks.start[self.body(s)]
     }
 
-    /// K̃_b⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
+    /// K̃⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
     fn column(&self, jac: &Jacobian, s: &Segment, u: &mut [f64], out: &mut [f64]) {
         let (b, local) = (self.body(s), self.local(s));
-        u[..self.n[b]].fill(0.0);
+        u[..self.blocks.n[b]].fill(0.0);
         u[local..local + s.width()].copy_from_slice(jac.vals(s));
         self.solve(b, u, out);
     }
@@ -162,9 +192,9 @@ impl BodyPart {
         let mut count = 0;
         for (i, s) in all.iter().enumerate().filter(|(_, s)| self.on_body(s)) {
             count += 1;
-            let mut d = if s.width() == 3 && self.n[self.body(s)] == 3 {
+            let mut d = if s.width() == 3 && self.blocks.n[self.body(s)] == 3 {
                 // a rigid body's row (the segment covers the body's DOFs), unrolled
-                solve_n::<3>(&self.kinv[self.square[self.body(s)]..], jac.vals(s), &mut x);
+                solve_n::<3>(&self.blocks.kinv[self.blocks.square[self.body(s)]..], jac.vals(s), &mut x);
                 dot_n::<3>(jac.vals(s), &x)
             } else {
                 self.column(jac, s, &mut u, &mut x);
@@ -206,7 +236,8 @@ impl BodyPart {
         z: &[f64],
         out: &mut [f64],
     ) {
-        let n = self.dofs;
+        let Blocks { start, n: ns, dofs: n, .. } = &*self.blocks;
+        let n = *n;
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
         // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's);
@@ -216,7 +247,7 @@ impl BodyPart {
         if whole {
             u.fill(0.0);
         } else {
-            self.start.iter().zip(&self.n).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
+            start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
         for s in segs.clone() {
             let (zr, vals) = (z[s.row()], jac.vals(s));
@@ -225,8 +256,8 @@ impl BodyPart {
                 _ => u[s.dofs()].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
             }
         }
-        for (b, &start) in self.start.iter().enumerate() {
-            let r = start..start + self.n[b];
+        for (b, &start) in start.iter().enumerate() {
+            let r = start..start + ns[b];
             self.solve(b, &u[r.clone()], &mut v[r]);
         }
         for s in segs {
@@ -237,7 +268,7 @@ impl BodyPart {
     /// Pushes `(r, s, s_r K̃_c⁻¹ t_sᵀ)` for every pair of segments (s_r, t_s) on one body whose
     /// rows are both kept: W_bodies entry by entry, duplicates to be summed.
     pub fn entries(&self, jac: &Jacobian, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
-        let bodies = self.n.len();
+        let bodies = self.blocks.n.len();
         let all = jac.segments();
         let mine: Vec<usize> = (0..all.len()).filter(|&i| self.on_body(&all[i])).collect();
         let (order, start) = group(mine.iter().map(|&i| self.body(&all[i])), bodies);
@@ -260,17 +291,18 @@ impl BodyPart {
     /// (rigid bodies) and Gershgorin's bound of M_c otherwise. Costs about 2 n_c² multiply-adds
     /// per segment, where Gershgorin's bound of W took W's m_c² entries per body.
     pub fn row_bounds(&self, jac: &Jacobian, sc: &[f64], out: &mut [f64]) {
-        let bodies = self.n.len();
+        let Blocks { n: ns, square, packed, root, .. } = &*self.blocks;
+        let bodies = ns.len();
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let work = &mut *guard;
         // m accumulates and starts at zero; every body's λ is written below
-        work.resize(self.packed[bodies] + bodies, 0.0);
-        let (m, lambda) = work.split_at_mut(self.packed[bodies]);
+        work.resize(packed[bodies] + bodies, 0.0);
+        let (m, lambda) = work.split_at_mut(packed[bodies]);
         m.fill(0.0);
         for s in self.segs(jac) {
             let (b, w) = (self.body(s), sc[s.row()] * sc[s.row()]);
-            let (n, local, r) = (self.n[b], self.local(s), &self.root[self.square[b]..]);
-            let mb = &mut m[self.packed[b]..self.packed[b + 1]];
+            let (n, local, r) = (ns[b], self.local(s), &root[square[b]..]);
+            let mb = &mut m[packed[b]..packed[b + 1]];
             if n == 3 && s.width() == 3 {
                 // a rigid body's row, unrolled: t = Rᵀ s, M += w t tᵀ. The same sums as the
                 // general loop below, which would cost 3.3 M more instructions of a 27.6 M warm
@@ -302,7 +334,7 @@ impl BodyPart {
             }
         }
         for (b, l) in lambda.iter_mut().enumerate() {
-            *l = largest_eigenvalue(&m[self.packed[b]..self.packed[b + 1]], self.n[b]);
+            *l = largest_eigenvalue(&m[packed[b]..packed[b + 1]], ns[b]);
         }
         for s in self.segs(jac) {
             out[s.row()] += lambda[self.body(s)];

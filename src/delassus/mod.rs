@@ -25,6 +25,7 @@ use crate::jacobian::{Jacobian, Segment};
 use crate::vi::Operator;
 use bodies::BodyPart;
 use sprs::CsMat;
+use std::sync::Arc;
 
 mod bodies;
 
@@ -67,6 +68,19 @@ pub struct Scratch {
     /// The merge of one row of W: per place of the row, (place, cursor, end) over the places
     /// of its cluster.
     cursors: Vec<(usize, usize, usize)>,
+    /// The body form's packed blocks, kept across steps while they stay current.
+    blocks: Option<Arc<bodies::Blocks>>,
+}
+
+impl Scratch {
+    /// The body form's blocks for the clusters with `body[c]`: the kept ones while they are
+    /// current ([`bodies::Blocks::current`]), else new ones, kept for the next call.
+    fn blocks(&mut self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> Arc<bodies::Blocks> {
+        match &self.blocks {
+            Some(b) if b.current(flex, map, body) => Arc::clone(b),
+            _ => Arc::clone(self.blocks.insert(Arc::new(bodies::Blocks::new(flex, map, body)))),
+        }
+    }
 }
 
 /// Above this many numbers (`rows_c² + rows_c · n_c`) a cluster's part of W is kept in operator
@@ -120,7 +134,7 @@ impl ContactOperator {
             // a scene of single bodies: nothing to assemble. The assembly's passes over every
             // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
             // a 29 M warm step on the 1,000-disk pile
-            let bodies = BodyPart::new(&jac, flex, map, &body, &mut diagonal);
+            let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
             let explicit = CsMat::zero((jac.rows, jac.rows));
             return ContactOperator { jac, explicit, factored: Vec::new(), bodies, diagonal };
         }
@@ -134,7 +148,7 @@ impl ContactOperator {
             })
             .collect();
         let factored = factored_parts(&jac, flex, map, &factored_clusters, &mut diagonal);
-        let bodies = BodyPart::new(&jac, flex, map, &body, &mut diagonal);
+        let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
         let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
         scratch.places(&jac, map, &outside);
         scratch.columns(&jac, flex);

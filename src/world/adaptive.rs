@@ -169,7 +169,8 @@ impl World {
     }
 
     /// The first contact of the current configuration that penetrates deeper than 5 % of d0
-    /// and deeper than at the trial's start (`before`: depths by key; a start overlap that does
+    /// and deeper than at the trial's start (`before`: the trial's contacts, detected sorted by
+    /// key, with their start gaps; a start overlap that does
     /// not grow, by more than 1e-3 of the limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
     /// penetration only within it. A depth grows by at most the two bodies' largest point
@@ -177,7 +178,7 @@ impl World {
     /// contact can qualify and detection is skipped (math note §10.8).
     pub(super) fn new_penetration(
         &self,
-        before: &[(ContactKey, f64)],
+        before: &[super::detect::Contact],
         motions: &[f64],
         threshold: f64,
     ) -> Option<Trouble> {
@@ -187,7 +188,9 @@ impl World {
         }
         let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
         found.into_iter().find_map(|g| {
-            let start = before.binary_search_by_key(&g.key, |e| e.0).map_or(0.0, |i| before[i].1.max(0.0));
+            let start = before
+                .binary_search_by_key(&g.key, |c| c.geom.key)
+                .map_or(0.0, |i| (-before[i].geom.g0).max(0.0));
             let depth = -g.g0;
             (depth > limit && depth > start + 1e-3 * limit).then(|| Trouble::Penetration {
                 body_a: self.bodies[g.a].name.clone(),

@@ -198,14 +198,12 @@ impl World {
             }
             warnings.push(Warning::Trouble { step, trouble });
         }
-        // start depths by key (contacts are detected sorted by key)
-        let depths: Vec<(ContactKey, f64)> = contacts.iter().map(|c| (c.geom.key, -c.geom.g0)).collect();
         self.allowance = self.gap_accuracy(&solved);
         self.update_connectors(&motion.dbar);
         self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = self.new_penetration(&depths, &motions, threshold) {
+        if let Some(trouble) = self.new_penetration(&contacts, &motions, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }
