@@ -198,7 +198,7 @@ impl Body {
             Some(fe) => fe.max_motion(d),
             None => {
                 let mut dofs = Dofs::zeros();
-                dofs.as_mut_slice()[..d.len()].copy_from_slice(d);
+                crate::jacobian::copy_small(&mut dofs.as_mut_slice()[..d.len()], d);
                 self.max_displacement(&dofs)
             }
         }

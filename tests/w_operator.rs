@@ -377,7 +377,8 @@ fn body_form_keeps_its_blocks_only_while_the_factors_stay() {
     let rows = jac.rows;
     let mut scratch = delassus::Scratch::default();
     let mut kept = |flex: &Flexibility| {
-        let op = delassus::ContactOperator::with_scratch(jac.clone(), flex, &map, usize::MAX, true, &mut scratch);
+        let op =
+            delassus::ContactOperator::with_scratch(jac.clone(), flex, &map, usize::MAX, true, &mut scratch);
         columns(&op, rows)
     };
     let first = kept(&flex);

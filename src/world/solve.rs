@@ -343,7 +343,7 @@ fn warm_start(contacts: &[Contact]) -> Vec<f64> {
     for c in contacts {
         let n = c.law.rows();
         let warm = c.memory.map_or([0.0; 3], |m| m.force);
-        z[c.law.row..c.law.row + n].copy_from_slice(&warm[..n]);
+        crate::jacobian::copy_small(&mut z[c.law.row..c.law.row + n], &warm[..n]);
     }
     z
 }

@@ -158,7 +158,7 @@ impl World {
                 .map(|(k, c)| {
                     let r = c.law.row;
                     let mut force = [0.0; 3];
-                    force[..c.law.rows()].copy_from_slice(&s.z2[r..r + c.law.rows()]);
+                    crate::jacobian::copy_small(&mut force[..c.law.rows()], &s.z2[r..r + c.law.rows()]);
                     (c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded })
                 })
                 .collect(),
