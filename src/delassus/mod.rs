@@ -169,6 +169,11 @@ impl ContactOperator {
         self.jac
     }
 
+    /// The largest entry of diag(W) (0 for no rows).
+    pub fn largest_diagonal(&self) -> f64 {
+        self.diagonal.iter().fold(0.0f64, |m, x| m.max(*x))
+    }
+
     /// Whether some cluster is in operator form.
     pub fn has_factored(&self) -> bool {
         !self.factored.is_empty()

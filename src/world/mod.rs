@@ -191,8 +191,7 @@ impl World {
         // with `adaptive = false` a trial is never repeated: motion and penetration are warnings
         let adaptive = self.model.time.adaptive;
         let mut warnings = solved.warnings.clone();
-        let motions = self.motions(&motion.dbar);
-        if let Some(trouble) = self.moved_too_far(&motions, threshold) {
+        if let Some(trouble) = self.moved_too_far(&motion.motions, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }
@@ -203,7 +202,7 @@ impl World {
         self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = self.new_penetration(&contacts, &motions, threshold) {
+        if let Some(trouble) = self.new_penetration(&contacts, &motion.motions, threshold) {
             if adaptive {
                 return Err(trouble.into());
             }
@@ -255,12 +254,12 @@ impl World {
             let mut pipeline = std::mem::take(&mut self.pipeline);
             let (contacts, threshold) = self.detect(&df, &mut pipeline.pairs);
             stages.detect += clock.lap();
-            let solved = self.solve(&contacts, &df, &mut pipeline);
+            let mut solved = self.solve(&contacts, &df, &mut pipeline);
             self.pipeline = pipeline;
             stages.rows += solved.times.rows;
             stages.vi += solved.times.vi;
             stages.refine += clock.lap() - solved.times.rows - solved.times.vi;
-            let motion = self.motion(&df, &solved);
+            let motion = self.motion(&df, &mut solved);
             self.check_finite(&motion)?;
             let joints = self.breakage(&solved);
             if joints.contains(&true) {

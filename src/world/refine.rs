@@ -37,19 +37,20 @@ pub(super) struct Shapes {
 }
 
 impl World {
-    /// New linearizations from the trial increment `dbar` (a global DOF vector), and whether
-    /// any contact changed by more than 1e-9 d0 (in gap terms).
+    /// New linearizations from the trial increment `dbar` (a global DOF vector; `reach`, its
+    /// bodies' largest point motions), and whether any contact changed by more than 1e-9 d0 (in
+    /// gap terms).
     pub(super) fn refine(
         &self,
         contacts: &[Contact],
         lin: &[Linearization],
         dbar: &[f64],
+        reach: &[f64],
         state: &Classified,
         shapes: &mut Shapes,
     ) -> (Vec<Linearization>, bool) {
         let near = 0.1 * self.threshold;
         let full = |b: usize| self.dofs.gather(dbar, b);
-        let reach = self.motions(dbar);
         // math note §10.1: below this reach, what the refinement can change is far below its
         // stop criterion
         let still = (SETTLED * self.threshold * self.feature).sqrt();

@@ -44,6 +44,9 @@ pub(super) struct Solved {
     pub dp1: Vec<f64>,
     /// K̃⁻¹ Bᵀ z2 over the rows of solve 2, when solve 2 ran (else it is `dp1`).
     pub dp2: Option<Vec<f64>>,
+    /// The geometry increment d̄ of z1 and its bodies' motions, when the last refinement
+    /// computed them (taken by `World::motion`).
+    pub increment: Option<Increment>,
     pub state: Classified,
     pub report: vi::Report,
     pub warnings: Vec<Warning>,
@@ -51,6 +54,12 @@ pub(super) struct Solved {
     pub w_diag_max: f64,
     /// Time spent building rows and in the VI.
     pub times: SolveTimes,
+}
+
+/// A geometry increment d̄ (math note §1.3 c) and each body's largest point motion under it.
+pub(super) struct Increment {
+    pub dbar: Vec<f64>,
+    pub motions: Vec<f64>,
 }
 
 /// Wall time of the parts of stage 4 [s].
@@ -197,8 +206,8 @@ impl World {
         let mut lin: Vec<Linearization> = contacts.iter().map(Linearization::initial).collect();
         let mut refinements = 0;
         // the rows of the last solve 1, the linearization a further refinement gave, and the
-        // response to z1 when the last refinement computed it
-        let (rows, state, last, dp1) = loop {
+        // response to z1 and the increment when the last refinement computed them
+        let (rows, state, last, kept) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
@@ -209,17 +218,21 @@ impl World {
             }
             let dp = self.response(&rows, &z1, |_| true);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state.impacting_rows);
+            let motions = self.motions(&dbar);
             let (next, changed) =
-                self.refine(contacts, &rows.lin, &dbar, &state, &mut runner.pipeline.shapes);
+                self.refine(contacts, &rows.lin, &dbar, &motions, &state, &mut runner.pipeline.shapes);
             if !changed {
-                break (rows, state, next, Some(dp));
+                break (rows, state, next, Some((dp, Increment { dbar, motions })));
             }
             runner.pipeline.recycle(rows);
             lin = next;
             refinements += 1;
         };
         let rows2 = runner.rows(|a| self.impact_rows(contacts, last, &state, df, a));
-        let dp1 = dp1.unwrap_or_else(|| self.response(&rows, &z1, |_| true));
+        let (dp1, increment) = match kept {
+            Some((dp, increment)) => (dp, Some(increment)),
+            None => (self.response(&rows, &z1, |_| true), None),
+        };
         let mut z2 = z1.clone();
         let mut dp2 = None;
         if rows2.is_some() || self.needs_velocity_solve(contacts, &state) {
@@ -228,11 +241,9 @@ impl World {
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity);
             dp2 = Some(self.response(solve2, &z2, |_| true));
         }
-        let mut diagonal = vec![0.0; rows.q.len()];
-        rows.w.diagonal(&mut diagonal);
-        let w_diag_max = diagonal.iter().fold(0.0f64, |m, x| m.max(*x));
+        let w_diag_max = rows.w.largest_diagonal();
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
-        Solved { laws, rows, rows2, z1, z2, dp1, dp2, state, report, warnings, w_diag_max, times }
+        Solved { laws, rows, rows2, z1, z2, dp1, dp2, increment, state, report, warnings, w_diag_max, times }
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact

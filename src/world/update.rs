@@ -9,16 +9,26 @@ use crate::contact::set::{ContactMemory, Memory};
 pub(super) struct Motion {
     /// d̄: geometry and stress (impacting contacts' share doubled).
     pub dbar: Vec<f64>,
+    /// Each body's largest point motion under d̄ (`World::motions`).
+    pub motions: Vec<f64>,
     /// d_vel = d^f + K̃⁻¹ Bᵀ p2: velocity.
     pub dvel: Vec<f64>,
 }
 
 impl World {
-    pub(super) fn motion(&self, df: &[f64], s: &Solved) -> Motion {
-        let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.dp1, &s.state.impacting_rows);
+    /// The step's motion: d̄ as the last refinement computed it, when it did.
+    pub(super) fn motion(&self, df: &[f64], s: &mut Solved) -> Motion {
+        let (dbar, motions) = match s.increment.take() {
+            Some(i) => (i.dbar, i.motions),
+            None => {
+                let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.dp1, &s.state.impacting_rows);
+                let motions = self.motions(&dbar);
+                (dbar, motions)
+            }
+        };
         let dp2 = s.dp2.as_ref().unwrap_or(&s.dp1);
         let dvel = (0..df.len()).map(|i| df[i] + dp2[i]).collect();
-        Motion { dbar, dvel }
+        Motion { dbar, motions, dvel }
     }
 
     /// A NaN or infinity anywhere fails the trial, naming the bodies (math note §10.8).
