@@ -167,7 +167,7 @@ impl BodyPart {
         s.start() - self.blocks.start[self.body(s)]
     }
 
-    /// K̃⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
+    /// K̃_b⁻¹ sᵀ of segment s over its body's DOFs (into `out[..n_b]`).
     fn column(&self, jac: &Jacobian, s: &Segment, u: &mut [f64], out: &mut [f64]) {
         let (b, local) = (self.body(s), self.local(s));
         u[..self.blocks.n[b]].fill(0.0);

@@ -208,8 +208,7 @@ impl World {
             }
             warnings.push(Warning::Trouble { step, trouble });
         }
-        let records = self.contact_records(&contacts, &solved);
-        self.remember(&contacts, &solved);
+        let records = self.close_contacts(&contacts, &solved);
         self.pipeline.recycle(solved.rows);
         if let Some(rows2) = solved.rows2 {
             self.pipeline.recycle(rows2);

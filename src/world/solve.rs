@@ -180,7 +180,7 @@ impl World {
     /// solve 2 with g0 dropped for the contacts closed in solve 1 (velocity), skipped when
     /// those g0 are all zero to within the allowance (math note §1.3 a, d; §10.5).
     pub(super) fn solve(&self, contacts: &[Contact], df: &[f64], pipeline: &mut Pipeline) -> Solved {
-        let mut z1 = warm_start(contacts);
+        let (mut z1, laws, mut lin) = inputs(contacts);
         let opts = vi::Options {
             tolerance: self.model.solver.tolerance,
             max_iterations: self.model.solver.max_iterations,
@@ -192,7 +192,6 @@ impl World {
         // a cold step (math note §10.11): its error becomes the motion later steps inherit
         let factor = self.settings.cold_tightening;
         let tighten = (factor < 1.0 && z1.iter().all(|&x| x == 0.0)).then_some(factor);
-        let laws: Vec<Law> = contacts.iter().map(|c| c.law).collect();
         let report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         let mut runner = Runner {
             opts,
@@ -203,7 +202,6 @@ impl World {
             pipeline,
             times: SolveTimes::default(),
         };
-        let mut lin: Vec<Linearization> = contacts.iter().map(Linearization::initial).collect();
         let mut refinements = 0;
         // the rows of the last solve 1, the linearization a further refinement gave, and the
         // response to z1 and the increment when the last refinement computed them
@@ -348,15 +346,20 @@ impl World {
     }
 }
 
-/// The warm start: last step's forces of the contacts that persist.
-fn warm_start(contacts: &[Contact]) -> Vec<f64> {
+/// The warm start (last step's forces of the contacts that persist), the laws and the step-start
+/// linearizations, in one pass over the contacts: each pass over their 216 bytes apiece costs
+/// about 15 µs of a warm step on the 1,000-disk pile.
+fn inputs(contacts: &[Contact]) -> (Vec<f64>, Vec<Law>, Vec<Linearization>) {
     let mut z = vec![0.0; contacts.last().map_or(0, |c| c.law.row + c.law.rows())];
+    let (mut laws, mut lin) = (Vec::with_capacity(contacts.len()), Vec::with_capacity(contacts.len()));
     for c in contacts {
         let n = c.law.rows();
         let warm = c.memory.map_or([0.0; 3], |m| m.force);
         crate::jacobian::copy_small(&mut z[c.law.row..c.law.row + n], &warm[..n]);
+        laws.push(c.law);
+        lin.push(Linearization::initial(c));
     }
-    z
+    (z, laws, lin)
 }
 
 /// The gaps of solve 2, the velocity solve (math note §1.3 d): the offset of every contact

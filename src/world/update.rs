@@ -124,9 +124,13 @@ impl World {
         events
     }
 
-    pub(super) fn contact_records(&self, contacts: &[Contact], s: &Solved) -> Vec<ContactRecord> {
+    /// The step's contact records, and the memory of the next step: warm start, "was closed"
+    /// and bond (a joint that broke in the step was solved again unbonded: `World::trial`). One
+    /// pass over the contacts makes both.
+    pub(super) fn close_contacts(&mut self, contacts: &[Contact], s: &Solved) -> Vec<ContactRecord> {
         let rule = self.bounds(&s.laws);
-        contacts
+        let mut memory = Vec::with_capacity(contacts.len());
+        let records = contacts
             .iter()
             .enumerate()
             .map(|(k, c)| {
@@ -141,6 +145,9 @@ impl World {
                 } else {
                     ContactState::Stick
                 };
+                let mut force = [0.0; 3];
+                crate::jacobian::copy_small(&mut force[..c.law.rows()], &s.z2[r..r + c.law.rows()]);
+                memory.push((c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded }));
                 ContactRecord {
                     key: c.geom.key,
                     kind: c.geom.kind,
@@ -155,24 +162,9 @@ impl World {
                     state,
                 }
             })
-            .collect()
-    }
-
-    /// Warm start, "was closed" and bond memory for the next step (a joint that broke in the
-    /// step was solved again unbonded: `World::trial`).
-    pub(super) fn remember(&mut self, contacts: &[Contact], s: &Solved) {
-        self.memory = ContactMemory::from_entries(
-            contacts
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    let r = c.law.row;
-                    let mut force = [0.0; 3];
-                    crate::jacobian::copy_small(&mut force[..c.law.rows()], &s.z2[r..r + c.law.rows()]);
-                    (c.geom.key, Memory { force, closed: s.state.closed[k], bonded: c.law.bonded })
-                })
-                .collect(),
-        );
+            .collect();
+        self.memory = ContactMemory::from_entries(memory);
+        records
     }
 
     /// Pairs that started this step penetrating deeper than 5 % of the contact threshold.
