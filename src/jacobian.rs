@@ -150,15 +150,8 @@ impl Jacobian {
         self.segments.sort_by_key(|s| s.row);
     }
 
-    /// `out = B v` for a global DOF vector `v`.
-    pub fn apply(&self, v: &[f64], out: &mut Vec<f64>) {
-        out.clear();
-        out.resize(self.rows, 0.0);
-        self.add_apply_from(0, v, out);
-    }
-
     /// `out += B v` over the segments from the `first`-th on, in push order (so a row's sum is
-    /// the same as in [`Jacobian::apply`] when its segments are all from `first` on).
+    /// that of B v when its segments are all from `first` on).
     pub fn add_apply_from(&self, first: usize, v: &[f64], out: &mut [f64]) {
         for s in &self.segments[first..] {
             out[s.row()] += self.dot(s, v);

@@ -170,8 +170,8 @@ impl World {
 
     /// The first contact of the current configuration that penetrates deeper than 5 % of d0
     /// and deeper than at the trial's start (`before`: the trial's contacts, detected sorted by
-    /// key, with their start gaps; a start overlap that does
-    /// not grow, by more than 1e-3 of the limit, is tolerated, since no shorter step can undo it).
+    /// key, with their start gaps; a start overlap that does not grow, by more than 1e-3 of the
+    /// limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
     /// penetration only within it. A depth grows by at most the two bodies' largest point
     /// motions, so when no body's motion (`motions`) reaches half of 1e-3 of the limit, no
