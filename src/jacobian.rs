@@ -150,12 +150,26 @@ impl Jacobian {
         self.segments.sort_by_key(|s| s.row);
     }
 
-    /// `out += B v` over the segments from the `first`-th on, in push order (so a row's sum is
-    /// that of B v when its segments are all from `first` on).
-    pub fn add_apply_from(&self, first: usize, v: &[f64], out: &mut [f64]) {
-        for s in &self.segments[first..] {
-            out[s.row()] += self.dot(s, v);
-        }
+    /// [`Self::push_slice`], then `out[row] += vals · v[start..]`: B v summed as B is built, a
+    /// row's terms in push order (the sums of [`Self::dot`] segment by segment). A pass of its
+    /// own over B cost 50 µs of a warm step on the 1,000-disk pile, one over each contact's new
+    /// segments 0.3 M instructions.
+    #[inline(always)]
+    pub fn push_apply(
+        &mut self,
+        row: usize,
+        cluster: usize,
+        start: usize,
+        vals: &[f64],
+        v: &[f64],
+        out: &mut [f64],
+    ) {
+        self.push_slice(row, cluster, start, vals);
+        out[row] += match vals.len() {
+            3 => dot_n::<3>(vals, &v[start..]),
+            0 => return, // no segment
+            n => dot(vals, &v[start..start + n]),
+        };
     }
 
     /// `out += Bᵀ z` over the rows that `keep` selects.

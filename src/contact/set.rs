@@ -25,12 +25,13 @@ pub struct ContactMemory {
 }
 
 impl ContactMemory {
-    /// The memory of `entries` (sorted here if they are not).
+    /// The memory of `entries` (sorted here if they are not, the first of equal keys kept).
     pub fn from_entries(mut entries: Vec<(ContactKey, Memory)>) -> ContactMemory {
-        if !entries.is_sorted_by_key(|e| e.0) {
+        // a step's contacts come sorted and distinct: one pass tells
+        if !entries.windows(2).all(|w| w[0].0 < w[1].0) {
             entries.sort_by_key(|e| e.0);
+            entries.dedup_by_key(|e| e.0);
         }
-        entries.dedup_by_key(|e| e.0);
         ContactMemory { entries }
     }
 
@@ -78,15 +79,20 @@ pub fn interface_for(interfaces: &[Interface], ma: usize, mb: usize) -> &Interfa
 }
 
 /// For each contact, the index of the other contact of its edge-edge joint, if both ends
-/// of the joint were found (math note §4.6).
-pub fn joint_partners(contacts: &[ContactGeom]) -> Vec<Option<usize>> {
+/// of the joint were found (math note §4.6); empty when no contact is on a joint (a pile of
+/// disks: no table to clear per step).
+pub fn joint_partners<'a>(contacts: impl ExactSizeIterator<Item = &'a ContactGeom>) -> Vec<Option<usize>> {
+    let n = contacts.len();
     let mut by_joint: HashMap<JointKey, Vec<usize>> = HashMap::new();
-    for (k, c) in contacts.iter().enumerate() {
+    for (k, c) in contacts.enumerate() {
         if let Some(j) = c.joint {
             by_joint.entry(j).or_default().push(k);
         }
     }
-    let mut partner = vec![None; contacts.len()];
+    if by_joint.is_empty() {
+        return Vec::new();
+    }
+    let mut partner = vec![None; n];
     for members in by_joint.values() {
         if let [k, l] = members[..] {
             partner[k] = Some(l);

@@ -130,7 +130,8 @@ impl ContactOperator {
     ) -> ContactOperator {
         let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.body_inverse(c).is_some()).collect();
         let mut diagonal = vec![0.0; jac.rows];
-        if jac.segments().iter().all(|s| body[s.cluster()]) {
+        // (every cluster a body in body form answers for every segment without reading them)
+        if body.iter().all(|&b| b) || jac.segments().iter().all(|s| body[s.cluster()]) {
             // a scene of single bodies: nothing to assemble. The assembly's passes over every
             // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
             // a 29 M warm step on the 1,000-disk pile

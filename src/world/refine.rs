@@ -39,7 +39,8 @@ pub(super) struct Shapes {
 impl World {
     /// New linearizations from the trial increment `dbar` (a global DOF vector; `reach`, its
     /// bodies' largest point motions), and whether any contact changed by more than 1e-9 d0 (in
-    /// gap terms).
+    /// gap terms); `None` when no contact moved enough to be looked at (a settled pile): the
+    /// linearizations stay, and are not copied.
     pub(super) fn refine(
         &self,
         contacts: &[Contact],
@@ -48,7 +49,7 @@ impl World {
         reach: &[f64],
         state: &Classified,
         shapes: &mut Shapes,
-    ) -> (Vec<Linearization>, bool) {
+    ) -> Option<(Vec<Linearization>, bool)> {
         let near = 0.1 * self.threshold;
         let full = |b: usize| self.dofs.gather(dbar, b);
         // math note §10.1: below this reach, what the refinement can change is far below its
@@ -57,11 +58,15 @@ impl World {
         let watched: Vec<usize> = (0..contacts.len())
             .filter(|&k| {
                 let (r, a, b) = (contacts[k].law.row, contacts[k].geom.a, contacts[k].geom.b);
-                // contacts on a mesh keep their step-start rows (no mid-step refinement yet)
-                let on_mesh = [a, b].iter().any(|&b| self.bodies[b].mesh.is_some());
-                !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh && reach[a] + reach[b] > still
+                // contacts on a mesh keep their step-start rows (no mid-step refinement yet); the
+                // bodies are read last, for the few contacts that pass the other tests
+                let on_mesh = || [a, b].iter().any(|&b| self.bodies[b].mesh.is_some());
+                reach[a] + reach[b] > still && !state.impacting_rows[r] && state.gaps[r] < near && !on_mesh()
             })
             .collect();
+        if watched.is_empty() {
+            return None;
+        }
         let Shapes { mid, end, found } = shapes;
         for v in [&mut *mid, &mut *end] {
             v.clear();
@@ -103,7 +108,7 @@ impl World {
             changed |= change > 1e-9 * self.threshold;
             next[k] = Linearization { normal: m.normal, anchor, offset };
         }
-        (next, changed)
+        Some((next, changed))
     }
 
     fn moved_shape(&self, b: usize, d: &Dofs) -> BodyShape {
