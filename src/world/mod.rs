@@ -302,7 +302,7 @@ impl World {
     /// v0 of the coming step: the initial velocity on the first (trial) step, then k v1 with k the
     /// velocity carry (DDA's dynamic ratio, math note §1.1).
     fn v0(&self, body: &Body) -> Dofs {
-        if self.started { body.velocity * self.model.physics.velocity_carry } else { body.velocity }
+        v0_of(body, self.started, self.model.physics.velocity_carry)
     }
 
     fn interface(&self, a: usize, b: usize) -> &Interface {
@@ -313,6 +313,11 @@ impl World {
     fn bounds<'a>(&self, laws: &'a [crate::contact::law::Law]) -> ContactBounds<'a> {
         ContactBounds { laws, share_cohesion: self.settings.share_cohesion }
     }
+}
+
+/// [`World::v0`] of `body`, once a step was `started`, with the velocity carry `carry`.
+fn v0_of(body: &Body, started: bool, carry: f64) -> Dofs {
+    if started { body.velocity * carry } else { body.velocity }
 }
 
 /// c of math note §10.9: the damping C = c dt K of the strain DOFs; a stiff strain mode's
