@@ -17,7 +17,7 @@ impl World {
             .iter()
             .map(|b| {
                 let v0 = self.v0(b);
-                let mut fb = b.mass_matrix() * v0 * (2.0 / dt)
+                let mut fb = b.mass_times(&v0) * (2.0 / dt)
                     + b.stress_load()
                     + b.damping_load(&v0, dt, self.damping());
                 // body force, centroid reference (math note §2.4)
