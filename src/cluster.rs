@@ -256,15 +256,11 @@ impl Factor {
                 // from the column-major storage)
                 const M: usize = crate::body::MAX_DOF;
                 let (n, k) = (v.len(), inverse.as_slice());
-                if let [v0, v1, v2] = v {
+                if n == 3 {
                     // a rigid body, unrolled (the same sums) and written back as three stores,
                     // not a call to memcpy: 3 % of a warm step of the 10,000-disk pile went to
                     // this function (perf), the loops 0.05 M instructions of the 1,000-disk pile's
-                    let mut x = [0.0; 3];
-                    for (j, vj) in [*v0, *v1, *v2].into_iter().enumerate() {
-                        (0..3).for_each(|i| x[i] += k[j * M + i] * vj);
-                    }
-                    (*v0, *v1, *v2) = (x[0], x[1], x[2]);
+                    crate::jacobian::copy_small(v, &block_times::<3>(k, M, v));
                     return;
                 }
                 let mut x = [0.0; M];
@@ -278,6 +274,21 @@ impl Factor {
             Factor::Sparse(f) => f.solve_in_place(v),
         }
     }
+}
+
+/// K u over the leading N × N block of the column-major `k` (column stride `stride`), summed
+/// column by column: the order of every body-block product (a body's factor here, the body
+/// form's packed blocks in `delassus`), so that their sums agree bit for bit.
+#[inline(always)]
+pub(crate) fn block_times<const N: usize>(k: &[f64], stride: usize, u: &[f64]) -> [f64; N] {
+    let (k, u) = (&k[..(N - 1) * stride + N], &u[..N]);
+    let mut o = [0.0; N];
+    for j in 0..N {
+        for i in 0..N {
+            o[i] += k[j * stride + i] * u[j];
+        }
+    }
+    o
 }
 
 /// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling

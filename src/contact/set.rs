@@ -79,8 +79,7 @@ pub fn interface_for(interfaces: &[Interface], ma: usize, mb: usize) -> &Interfa
 }
 
 /// For each contact, the index of the other contact of its edge-edge joint, if both ends
-/// of the joint were found (math note §4.6); empty when no contact is on a joint (a pile of
-/// disks: no table to clear per step).
+/// of the joint were found (math note §4.6).
 pub fn joint_partners<'a>(contacts: impl ExactSizeIterator<Item = &'a ContactGeom>) -> Vec<Option<usize>> {
     let n = contacts.len();
     let mut by_joint: HashMap<JointKey, Vec<usize>> = HashMap::new();
@@ -88,9 +87,6 @@ pub fn joint_partners<'a>(contacts: impl ExactSizeIterator<Item = &'a ContactGeo
         if let Some(j) = c.joint {
             by_joint.entry(j).or_default().push(k);
         }
-    }
-    if by_joint.is_empty() {
-        return Vec::new();
     }
     let mut partner = vec![None; n];
     for members in by_joint.values() {
@@ -139,6 +135,25 @@ mod tests {
         let mut lookup = memory.lookup();
         for &k in asked.iter().flat_map(|k| [k, k]) {
             assert_eq!(lookup.get(&key(k.0, k.1)), want(&stored, k), "twice {k:?}");
+        }
+    }
+
+    /// `from_entries` keeps the first of equal keys (its doc), whether the entries come sorted
+    /// (the strict-order pass then fails on the tie) or not: a sorted input with a duplicate
+    /// would otherwise keep both, and the merge would read the second as the next key's.
+    #[test]
+    fn memory_keeps_the_first_of_equal_keys() {
+        let first = remembered(1, 1);
+        let second = Memory { force: [-7.0, 0.0, 0.0], closed: false, bonded: true };
+        for entries in [
+            vec![(key(0, 1), remembered(0, 1)), (key(1, 1), first), (key(1, 1), second)],
+            vec![(key(1, 1), first), (key(0, 1), remembered(0, 1)), (key(1, 1), second)],
+        ] {
+            let memory = ContactMemory::from_entries(entries);
+            assert_eq!(memory.entries.len(), 2);
+            let mut lookup = memory.lookup();
+            assert_eq!(lookup.get(&key(0, 1)), Some(remembered(0, 1)));
+            assert_eq!(lookup.get(&key(1, 1)), Some(first));
         }
     }
 }

@@ -14,7 +14,7 @@
 //! cancelling contact forces of the light block, and two steps no longer converged.
 
 use crate::body::MAX_DOF;
-use crate::cluster::Flexibility;
+use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small};
 use std::sync::{Arc, Mutex};
@@ -365,14 +365,7 @@ impl BodyPart {
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).
 #[inline(always)]
 fn solve_n<const N: usize>(k: &[f64], u: &[f64], out: &mut [f64]) {
-    let (k, u): (&[f64], &[f64]) = (&k[..N * N], &u[..N]);
-    let mut o = [0.0; N];
-    for j in 0..N {
-        for i in 0..N {
-            o[i] += k[j * N + i] * u[j];
-        }
-    }
-    out[..N].copy_from_slice(&o);
+    out[..N].copy_from_slice(&block_times::<N>(k, N, u));
 }
 
 /// An upper bound of the largest eigenvalue of the symmetric n × n matrix whose lower triangle is

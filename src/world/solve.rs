@@ -44,9 +44,8 @@ pub(super) struct Solved {
     pub dp1: Vec<f64>,
     /// K̃⁻¹ Bᵀ z2 over the rows of solve 2, when solve 2 ran (else it is `dp1`).
     pub dp2: Option<Vec<f64>>,
-    /// The geometry increment d̄ of z1 and its bodies' motions, when the last refinement
-    /// computed them (taken by `World::motion`).
-    pub increment: Option<Increment>,
+    /// The geometry increment d̄ of z1 and its bodies' motions (taken by `World::motion`).
+    pub increment: Increment,
     pub state: Classified,
     pub report: vi::Report,
     pub warnings: Vec<Warning>,
@@ -57,6 +56,7 @@ pub(super) struct Solved {
 }
 
 /// A geometry increment d̄ (math note §1.3 c) and each body's largest point motion under it.
+#[derive(Default)]
 pub(super) struct Increment {
     pub dbar: Vec<f64>,
     pub motions: Vec<f64>,
@@ -205,36 +205,30 @@ impl World {
         };
         let mut refinements = 0;
         // the rows of the last solve 1, the linearization a further refinement gave (`None`:
-        // the rows' own), and the response to z1 and the increment when the last refinement
-        // computed them
-        let (rows, state, last, kept) = loop {
+        // the rows' own), the response to z1 and the increment
+        let (rows, state, last, dp1, increment) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
             let state = self.classify(contacts, &rows, &z1, gaps);
-            if refinements == MAX_REFINEMENTS {
-                break (rows, state, None, None);
-            }
             let dp = self.response(&rows, &z1, |_| true);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state.impacting_rows);
             let motions = self.motions(&dbar);
-            match self.refine(contacts, &rows.lin, &dbar, &motions, &state, &mut runner.pipeline.shapes) {
+            let shapes = &mut runner.pipeline.shapes;
+            let next = (refinements < MAX_REFINEMENTS)
+                .then(|| self.refine(contacts, &rows.lin, &dbar, &motions, &state, shapes))
+                .flatten();
+            match next {
                 Some((next, true)) => {
                     runner.pipeline.recycle(rows);
                     lin = next;
                     refinements += 1;
                 }
-                next => {
-                    break (rows, state, next.map(|(next, _)| next), Some((dp, Increment { dbar, motions })));
-                }
+                next => break (rows, state, next.map(|(next, _)| next), dp, Increment { dbar, motions }),
             }
         };
         let rows2 =
             runner.rows(|a| self.impact_rows(contacts, last.as_deref().unwrap_or(&rows.lin), &state, df, a));
-        let (dp1, increment) = match kept {
-            Some((dp, increment)) => (dp, Some(increment)),
-            None => (self.response(&rows, &z1, |_| true), None),
-        };
         let mut z2 = z1.clone();
         let mut dp2 = None;
         if rows2.is_some() || self.needs_velocity_solve(contacts, &state) {

@@ -1,7 +1,7 @@
 //! Stage 5 (update the bodies, breakage, contact memory) and the contact part of stage 6.
 
 use super::detect::Contact;
-use super::solve::Solved;
+use super::solve::{Increment, Solved};
 use super::{ContactRecord, ContactState, Event, Warning, World};
 use crate::contact::set::{ContactMemory, Memory};
 
@@ -16,16 +16,9 @@ pub(super) struct Motion {
 }
 
 impl World {
-    /// The step's motion: d̄ as the last refinement computed it, when it did.
+    /// The step's motion: d̄ as the last solve 1 gave it.
     pub(super) fn motion(&self, df: &[f64], s: &mut Solved) -> Motion {
-        let (dbar, motions) = match s.increment.take() {
-            Some(i) => (i.dbar, i.motions),
-            None => {
-                let dbar = self.geometry_increment(&s.rows, df, &s.z1, &s.dp1, &s.state.impacting_rows);
-                let motions = self.motions(&dbar);
-                (dbar, motions)
-            }
-        };
+        let Increment { dbar, motions } = std::mem::take(&mut s.increment);
         let dp2 = s.dp2.as_ref().unwrap_or(&s.dp1);
         let dvel = (0..df.len()).map(|i| df[i] + dp2[i]).collect();
         Motion { dbar, motions, dvel }
