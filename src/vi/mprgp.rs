@@ -111,17 +111,28 @@ impl StepLength {
     }
 }
 
+/// The sums one iteration takes from y, by [`measure`].
+struct Sums {
+    /// βᵀβ and φ̃ᵀφ, for the proportioning test.
+    bb: f64,
+    ff: f64,
+    /// φᵀŴp, p the last direction (with `CONJ`; else 0), for the next conjugate one.
+    fap: f64,
+}
+
 /// The state of y: residual (math note §4.3, as PC reports it) and ||z||_inf into `st`;
-/// returns (βᵀβ, φ̃ᵀφ) for the proportioning test, or None on a NaN. Without `RESIDUAL`, only
-/// the pair: for a run's first iteration, whose start the sweep before it has measured (the
-/// contract of [`run`]) with the same sums, so `st` keeps them.
-fn measure<R: Rows, const RESIDUAL: bool>(
+/// returns the [`Sums`], or None on a NaN. Without `RESIDUAL`, only the sums: for an iteration
+/// whose y a sweep has measured with the same sums (the run's first, by the contract of
+/// [`run`], and the one after an expansion), so `st` keeps them. With `CONJ`, also φᵀŴp
+/// (`wyt` = Ŵp of the last CG step), in the same order as a pass of its own would sum it.
+fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
     c: &Ctx<R>,
     v: &Vectors,
     st: &mut State,
     abar: f64,
-) -> Option<(f64, f64)> {
-    let (mut res, mut gap, mut zn, mut bb, mut ff, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0, 0.0, 0.0);
+) -> Option<Sums> {
+    let (mut res, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+    let (mut bb, mut ff, mut fap) = (0.0, 0.0, 0.0);
     for i in 0..v.y.len() {
         let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
         let g = c.qs[i] + v.wy[i];
@@ -138,6 +149,9 @@ fn measure<R: Rows, const RESIDUAL: bool>(
         // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
         let fr = if f > 0.0 { f.min((y - lo) / abar) } else { f.max((y - hi) / abar) };
         ff += fr * f;
+        if CONJ {
+            fap += f * v.wyt[i];
+        }
         bad += y * 0.0 + g * 0.0;
     }
     if RESIDUAL {
@@ -146,15 +160,27 @@ fn measure<R: Rows, const RESIDUAL: bool>(
         st.fresh = true;
         st.last_infeasible = false;
     }
-    (bad == 0.0).then_some((bb, ff))
+    (bad == 0.0).then_some(Sums { bb, ff, fap })
 }
 
-/// p = φ(y) (or β(y) for a proportioning step).
-fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, chop: bool) {
+/// The next direction p: φ(y), or β(y) for a proportioning step (`Direction::Chopped`), or
+/// φ − γ p conjugate to the last one (γ = φᵀŴp / pᵀŴp).
+#[derive(Clone, Copy)]
+enum Direction {
+    Free,
+    Chopped,
+    Conjugate(f64),
+}
+
+fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, direction: Direction) {
     let Vectors { y, wy, yt, ylo, yhi, .. } = v;
     for i in 0..y.len() {
         let g = c.qs[i] + wy[i];
-        yt[i] = if chop { chopped(y[i], ylo[i], yhi[i], g) } else { free(y[i], ylo[i], yhi[i], g) };
+        yt[i] = match direction {
+            Direction::Free => free(y[i], ylo[i], yhi[i], g),
+            Direction::Chopped => chopped(y[i], ylo[i], yhi[i], g),
+            Direction::Conjugate(gamma) => free(y[i], ylo[i], yhi[i], g) - gamma * yt[i],
+        };
     }
 }
 
@@ -198,8 +224,45 @@ fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bo
     sweep(c, v, st)
 }
 
+/// When a run's face solves come (math note §4.10).
+struct Faces {
+    next: usize,
+    interval: usize,
+    /// The run's faces need `face::EPS` (`face::solve` sets it).
+    regularize: bool,
+}
+
+impl Faces {
+    /// The first after `face::first` iterations of the run.
+    fn new(st: &State, rows: usize, inner_tol: f64) -> Faces {
+        let first = face::first(rows, st.res, inner_tol);
+        Faces { next: st.inner + first, interval: face::EVERY, regularize: false }
+    }
+
+    /// A face solve when one is due: its outcome (`v.wy` fresh after it), else `None`.
+    fn due<R: Rows>(&mut self, c: &Ctx<R>, v: &mut Vectors, st: &mut State) -> Result<Option<Face>, Status> {
+        if st.inner < self.next {
+            return Ok(None);
+        }
+        let outcome = face::solve(c, v, st, &mut self.regularize)?;
+        self.interval = match outcome {
+            Face::Unavailable => usize::MAX,
+            Face::Taken(alpha) if alpha >= face::GOOD => face::EVERY,
+            Face::Taken(_) | Face::Declined => self.interval.saturating_mul(face::BACKOFF),
+        };
+        self.next = st.inner.saturating_add(self.interval);
+        Ok(Some(outcome))
+    }
+}
+
 /// One MPRGP run down to `inner_tol`, with the same contract as `pc::run`: the sweep over y
 /// is fresh on entry (wy = Ŵy), y lies in the box; `Ok` when the tolerance is met.
+///
+/// A CG step's next direction is made at the top of the next iteration, after the stop test,
+/// with φᵀŴp summed by that iteration's measure: a run that a CG step ends (a warm step of the
+/// 1,000-disk pile) makes no direction it does not use. After an expansion, the stop test
+/// reads the expansion's sweep, so the measure that follows computes only the sums. Both save
+/// passes over the rows with the same results bit for bit.
 pub(super) fn run<R: Rows>(
     c: &Ctx<R>,
     v: &mut Vectors,
@@ -216,37 +279,37 @@ pub(super) fn run<R: Rows>(
     }
     let mut abar = step_length.for_test(c, v, st);
     let mut since_refresh = 0;
-    let mut cg = false; // p is a CG direction (else it is reset to φ)
-    let first = face::first(v.y.len(), st.res, inner_tol);
-    let (mut next_face, mut interval, mut regularize) = (st.inner + first, face::EVERY, false);
-    let mut entry = true; // y as the sweep before the run measured it (and `stop` tested it)
+    let mut cg = None; // p is a CG direction, with this pᵀŴp (else it restarts from φ)
+    let mut faces = Faces::new(st, v.y.len(), inner_tol);
+    let mut swept = true; // a sweep measured y, and `stop` has tested it (the caller at entry)
     loop {
-        let measured =
-            if entry { measure::<R, false>(c, v, st, abar) } else { measure::<R, true>(c, v, st, abar) };
-        let Some((bb, ff)) = measured else { return Err(Status::NonFinite) };
-        if !entry && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+        let sums = match (swept, cg.is_some()) {
+            (true, _) => measure::<R, false, false>(c, v, st, abar),
+            (false, true) => measure::<R, true, true>(c, v, st, abar),
+            (false, false) => measure::<R, true, false>(c, v, st, abar),
+        };
+        let Some(sums) = sums else { return Err(Status::NonFinite) };
+        if !swept && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
             return end;
         }
-        entry = false;
-        if st.inner >= next_face {
-            // a slow run: the face's exact minimizer (math note §4.10)
-            let outcome = face::solve(c, v, st, &mut regularize)?;
-            interval = match outcome {
-                Face::Unavailable => usize::MAX,
-                Face::Taken(alpha) if alpha >= face::GOOD => face::EVERY,
-                Face::Taken(_) | Face::Declined => interval.saturating_mul(face::BACKOFF),
-            };
-            next_face = st.inner.saturating_add(interval);
-            if let Face::Taken(_) = outcome {
-                (since_refresh, cg) = (0, false);
+        swept = false;
+        match faces.due(c, v, st)? {
+            Some(Face::Taken(_)) => {
+                (since_refresh, cg) = (0, None);
                 continue;
             }
+            // a declined solve's last sweep (after its trials) overwrote p with PC's trial point
+            Some(Face::Declined) => cg = None,
+            _ => {}
         }
         st.inner += 1;
-        let proportional = bb <= GAMMA * GAMMA * ff;
-        if !proportional || !cg {
-            set_direction(c, v, !proportional);
-        }
+        let proportional = sums.bb <= GAMMA * GAMMA * sums.ff;
+        let direction = match cg {
+            _ if !proportional => Direction::Chopped,
+            Some(pap) => Direction::Conjugate(sums.fap / pap),
+            None => Direction::Free,
+        };
+        set_direction(c, v, direction);
         let (pap, gp, af) = product(c, v, st);
         if !(pap.is_finite() && gp.is_finite()) {
             return Err(Status::NonFinite);
@@ -263,36 +326,28 @@ pub(super) fn run<R: Rows>(
         if !proportional {
             // Proportioning step, kept inside the box.
             step(v, st, acg.min(af));
-            cg = false;
+            cg = None;
         } else if acg <= af {
             step(v, st, acg);
             since_refresh += 1;
-            // Next direction p = φ − γ p, γ = φᵀŴp / pᵀŴp (conjugate to the last one).
-            let mut fap = 0.0;
-            for i in 0..v.y.len() {
-                fap += free(v.y[i], v.ylo[i], v.yhi[i], c.qs[i] + v.wy[i]) * v.wyt[i];
-            }
-            let gamma = fap / pap;
-            for i in 0..v.y.len() {
-                let f = free(v.y[i], v.ylo[i], v.yhi[i], c.qs[i] + v.wy[i]);
-                v.yt[i] = f - gamma * v.yt[i];
-            }
-            cg = true;
+            cg = Some(pap);
         } else {
             step(v, st, af);
             abar = step_length.exact(c, v, st);
             if !expand(c, v, st, abar) {
                 return Err(Status::NonFinite);
             }
-            since_refresh = 0;
-            cg = false;
+            if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+                return end;
+            }
+            (since_refresh, cg, swept) = (0, None, true);
         }
         if since_refresh >= REFRESH {
             // (`sweep` also overwrites p with PC's trial point: restart the directions.)
             if !sweep(c, v, st) {
                 return Err(Status::NonFinite);
             }
-            (since_refresh, cg) = (0, false);
+            (since_refresh, cg) = (0, None);
         }
     }
 }
