@@ -258,11 +258,13 @@ impl Faces {
 /// One MPRGP run down to `inner_tol`, with the same contract as `pc::run`: the sweep over y
 /// is fresh on entry (wy = Ŵy), y lies in the box; `Ok` when the tolerance is met.
 ///
-/// A CG step's next direction is made at the top of the next iteration, after the stop test,
-/// with φᵀŴp summed by that iteration's measure: a run that a CG step ends (a warm step of the
-/// 1,000-disk pile) makes no direction it does not use. After an expansion, the stop test
-/// reads the expansion's sweep, so the measure that follows computes only the sums. Both save
-/// passes over the rows with the same results bit for bit.
+/// Passes over the rows are made only where their results are used, with the same results bit
+/// for bit as a pass per quantity:
+/// - a CG step's next direction is made at the top of the next iteration, after the stop test,
+///   with φᵀŴp summed by that iteration's measure: a run that a CG step ends (a warm step of
+///   the 1,000-disk pile) makes no direction it does not use;
+/// - when a sweep has measured y (the caller's before the run, an expansion's, a refresh's, a
+///   taken face solve's), the stop test reads it, and the measure computes only the sums.
 pub(super) fn run<R: Rows>(
     c: &Ctx<R>,
     v: &mut Vectors,
@@ -272,21 +274,20 @@ pub(super) fn run<R: Rows>(
     max_iterations: usize,
     step_length: &StepLength,
 ) -> Result<(), Status> {
-    // The sweep before a run has measured y (the contract above): a start that meets the
-    // tolerance stops here, without ᾱ.
-    if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
-        return end;
-    }
-    let mut abar = step_length.for_test(c, v, st);
+    let mut abar = None; // a start that meets the tolerance stops without ᾱ
     let mut since_refresh = 0;
     let mut cg = None; // p is a CG direction, with this pᵀŴp (else it restarts from φ)
     let mut faces = Faces::new(st, v.y.len(), inner_tol);
-    let mut swept = true; // a sweep measured y, and `stop` has tested it (the caller at entry)
+    let mut swept = true; // a sweep measured y: its results are in `st`
     loop {
+        if swept && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+            return end;
+        }
+        let a = *abar.get_or_insert_with(|| step_length.for_test(c, v, st));
         let sums = match (swept, cg.is_some()) {
-            (true, _) => measure::<R, false, false>(c, v, st, abar),
-            (false, true) => measure::<R, true, true>(c, v, st, abar),
-            (false, false) => measure::<R, true, false>(c, v, st, abar),
+            (true, _) => measure::<R, false, false>(c, v, st, a),
+            (false, true) => measure::<R, true, true>(c, v, st, a),
+            (false, false) => measure::<R, true, false>(c, v, st, a),
         };
         let Some(sums) = sums else { return Err(Status::NonFinite) };
         if !swept && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
@@ -295,7 +296,7 @@ pub(super) fn run<R: Rows>(
         swept = false;
         match faces.due(c, v, st)? {
             Some(Face::Taken(_)) => {
-                (since_refresh, cg) = (0, None);
+                (since_refresh, cg, swept) = (0, None, true);
                 continue;
             }
             // a declined solve's last sweep (after its trials) overwrote p with PC's trial point
@@ -333,12 +334,10 @@ pub(super) fn run<R: Rows>(
             cg = Some(pap);
         } else {
             step(v, st, af);
-            abar = step_length.exact(c, v, st);
-            if !expand(c, v, st, abar) {
+            let exact = step_length.exact(c, v, st);
+            abar = Some(exact);
+            if !expand(c, v, st, exact) {
                 return Err(Status::NonFinite);
-            }
-            if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
-                return end;
             }
             (since_refresh, cg, swept) = (0, None, true);
         }
@@ -347,7 +346,7 @@ pub(super) fn run<R: Rows>(
             if !sweep(c, v, st) {
                 return Err(Status::NonFinite);
             }
-            (since_refresh, cg) = (0, None);
+            (since_refresh, cg, swept) = (0, None, true);
         }
     }
 }
