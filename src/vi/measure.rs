@@ -37,7 +37,7 @@ impl Measure {
     /// Row i's (force, gap) parts from its iterate z, D⁻¹G (`dg`), bounds and diagonal `d`.
     #[inline(always)]
     pub fn row(&self, z: f64, dg: f64, lo: f64, hi: f64, d: f64) -> (f64, f64) {
-        let r = (z - (z - dg).max(lo).min(hi)).abs();
+        let r = (z - super::pc::clip(z - dg, lo, hi)).abs();
         if self.weight == 0.0 {
             return (r, 0.0);
         }

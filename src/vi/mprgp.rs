@@ -24,7 +24,7 @@
 use super::Status;
 use super::face::{self, Face};
 use super::measure::Measure;
-use super::pc::{Ctx, State, Vectors, clip, stop, sweep, unscale};
+use super::pc::{Ctx, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
 use super::scaling::Rows;
 
 /// Proportioning constant Γ (Dostál's usual choice).
@@ -139,15 +139,15 @@ fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
         if RESIDUAL {
             let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
             let (r, rg) = c.measure.row(z, c.gs[i] * g, v.lo[i], v.hi[i], c.dd[i]);
-            res = res.max(r);
-            gap = gap.max(rg);
-            zn = zn.max(z.abs());
+            res = larger(res, r);
+            gap = larger(gap, rg);
+            zn = larger(zn, z.abs());
         }
         let b = chopped(y, lo, hi, g);
         bb += b * b;
         let f = free(y, lo, hi, g);
         // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
-        let fr = if f > 0.0 { f.min((y - lo) / abar) } else { f.max((y - hi) / abar) };
+        let fr = if f > 0.0 { smaller(f, (y - lo) / abar) } else { larger(f, (y - hi) / abar) };
         ff += fr * f;
         if CONJ {
             fap += f * v.wyt[i];
@@ -197,9 +197,9 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
         pap += p * ap;
         gp += (c.qs[i] + wy[i]) * p;
         if p > 0.0 {
-            af = af.min((y[i] - ylo[i]) / p);
+            af = smaller(af, (y[i] - ylo[i]) / p);
         } else if p < 0.0 {
-            af = af.min((y[i] - yhi[i]) / p);
+            af = smaller(af, (y[i] - yhi[i]) / p);
         }
     }
     (pap, gp, af.max(0.0))

@@ -2,7 +2,7 @@
 //! the current iterate, block by block, clips the iterate into it and runs the PC solver from
 //! there, until the box settles and the iterate solves the VI of its own box.
 
-use super::pc::{self, Ctx, State, Vectors, clip};
+use super::pc::{self, Ctx, State, Vectors, clip, larger};
 use super::scaling::Rows;
 use super::{BoundRule, Options, Report, Status};
 
@@ -138,13 +138,13 @@ fn new_box<R: Rows>(
         let (l, h) = (lo[i], hi[i]);
         valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
         if l.is_finite() {
-            bmax = bmax.max(l.abs());
+            bmax = larger(bmax, l.abs());
         }
         if h.is_finite() {
-            bmax = bmax.max(h.abs());
+            bmax = larger(bmax, h.abs());
         }
         if have_prev {
-            change = change.max(bound_diff(l, lo_prev[i])).max(bound_diff(h, hi_prev[i]));
+            change = larger(larger(change, bound_diff(l, lo_prev[i])), bound_diff(h, hi_prev[i]));
             same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
         }
         ylo[i] = l * sd[i];

@@ -169,10 +169,26 @@ impl State {
 }
 
 /// Projection onto [lo, hi] (lo <= hi checked by the caller). Unlike `f64::clamp` it never
-/// panics.
+/// panics; a NaN x gives lo, as `x.max(lo).min(hi)` would.
 #[inline(always)]
 pub(super) fn clip(x: f64, lo: f64, hi: f64) -> f64 {
-    x.max(lo).min(hi)
+    smaller(larger(x, lo), hi)
+}
+
+/// The larger of a and b, by one comparison (x86's `maxsd`), b when they are equal or either is
+/// NaN. For the row loops: `f64::max` adds a NaN fix-up to every call, 1.2 M of the 16.24 M
+/// instructions of a warm step of the 1,000-disk pile (callgrind) in `clip` and the loops'
+/// maxima. The loops detect a NaN on their own (`bad`), and on rows without one the results are
+/// the same (bit for bit on the piles and the examples).
+#[inline(always)]
+pub(super) fn larger(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
+}
+
+/// The smaller of a and b (see [`larger`]): b when they are equal or either is NaN.
+#[inline(always)]
+pub(super) fn smaller(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
 }
 
 /// The unscaled iterate z = D^{-1/2} y, snapped so that an active scaled bound maps to the
@@ -243,10 +259,10 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
             pt.s0 += e * e;
             // Infeasibility of y: a max per block; `reduce` sums the blocks, which keeps
             // "> 0" intact.
-            pt.s1 = pt.s1.max((ylo[i] - yi).max(yi - yhi[i]));
-            pt.m0 = pt.m0.max(r);
-            pt.m1 = pt.m1.max(zi.abs());
-            pt.m2 = pt.m2.max(rg);
+            pt.s1 = larger(pt.s1, larger(ylo[i] - yi, yi - yhi[i]));
+            pt.m0 = larger(pt.m0, r);
+            pt.m1 = larger(pt.m1, zi.abs());
+            pt.m2 = larger(pt.m2, rg);
             // NaN/inf detector: `clip` and `max` would swallow a NaN.
             bad += yi * 0.0 + f * 0.0;
         }
