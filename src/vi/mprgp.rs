@@ -133,12 +133,16 @@ fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
 ) -> Option<Sums> {
     let (mut res, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
     let (mut bb, mut ff, mut fap) = (0.0, 0.0, 0.0);
-    for i in 0..v.y.len() {
-        let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
-        let g = c.qs[i] + v.wy[i];
+    // every vector cut to n rows, so that the loop's indexing needs no bounds checks
+    let n = v.y.len();
+    let (ys, ylo, yhi, wy, wyt) = (&v.y[..n], &v.ylo[..n], &v.yhi[..n], &v.wy[..n], &v.wyt[..n]);
+    let (zlo, zhi, qs, sc, gs, dd) = (&v.lo[..n], &v.hi[..n], &c.qs[..n], &c.sc[..n], &c.gs[..n], &c.dd[..n]);
+    for i in 0..n {
+        let (y, lo, hi) = (ys[i], ylo[i], yhi[i]);
+        let g = qs[i] + wy[i];
         if RESIDUAL {
-            let z = unscale(y, lo, hi, v.lo[i], v.hi[i], c.sc[i]);
-            let (r, rg) = c.measure.row(z, c.gs[i] * g, v.lo[i], v.hi[i], c.dd[i]);
+            let z = unscale(y, lo, hi, zlo[i], zhi[i], sc[i]);
+            let (r, rg) = c.measure.row(z, gs[i] * g, zlo[i], zhi[i], dd[i]);
             res = larger(res, r);
             gap = larger(gap, rg);
             zn = larger(zn, z.abs());
@@ -150,7 +154,7 @@ fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
         let fr = if f > 0.0 { smaller(f, (y - lo) / abar) } else { larger(f, (y - hi) / abar) };
         ff += fr * f;
         if CONJ {
-            fap += f * v.wyt[i];
+            fap += f * wyt[i];
         }
         bad += y * 0.0 + g * 0.0;
     }
@@ -173,9 +177,11 @@ enum Direction {
 }
 
 fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, direction: Direction) {
-    let Vectors { y, wy, yt, ylo, yhi, .. } = v;
-    for i in 0..y.len() {
-        let g = c.qs[i] + wy[i];
+    let n = v.y.len();
+    let (y, wy, yt, ylo, yhi) = (&v.y[..n], &v.wy[..n], &mut v.yt[..n], &v.ylo[..n], &v.yhi[..n]);
+    let qs = &c.qs[..n];
+    for i in 0..n {
+        let g = qs[i] + wy[i];
         yt[i] = match direction {
             Direction::Free => free(y[i], ylo[i], yhi[i], g),
             Direction::Chopped => chopped(y[i], ylo[i], yhi[i], g),
@@ -190,12 +196,15 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
     let Vectors { y, wy, yt, wyt, ylo, yhi, tmp, .. } = v;
     c.rows.prepare(yt, wyt, tmp);
     let (mut pap, mut gp, mut af) = (0.0, 0.0, f64::INFINITY);
-    for i in 0..y.len() {
+    let n = y.len();
+    let (y, wy, ylo, yhi, wyt, qs) = (&y[..n], &wy[..n], &ylo[..n], &yhi[..n], &mut wyt[..n], &c.qs[..n]);
+    let yt = &yt[..n];
+    for i in 0..n {
         let p = yt[i];
         let ap = c.rows.row(i, yt, wyt[i]);
         wyt[i] = ap;
         pap += p * ap;
-        gp += (c.qs[i] + wy[i]) * p;
+        gp += (qs[i] + wy[i]) * p;
         if p > 0.0 {
             af = smaller(af, (y[i] - ylo[i]) / p);
         } else if p < 0.0 {
@@ -209,7 +218,9 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
 fn step(v: &mut Vectors, st: &mut State, alpha: f64) {
     st.steps = st.steps.saturating_add(1);
     let Vectors { y, wy, yt, wyt, ylo, yhi, .. } = v;
-    for i in 0..y.len() {
+    let n = y.len();
+    let (y, wy, yt, wyt, ylo, yhi) = (&mut y[..n], &mut wy[..n], &yt[..n], &wyt[..n], &ylo[..n], &yhi[..n]);
+    for i in 0..n {
         y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);
         wy[i] -= alpha * wyt[i];
     }
@@ -217,9 +228,11 @@ fn step(v: &mut Vectors, st: &mut State, alpha: f64) {
 
 /// Expansion: y = P[y − ᾱ φ(y)], then a full product.
 fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bool {
-    for i in 0..v.y.len() {
-        let (y, lo, hi) = (v.y[i], v.ylo[i], v.yhi[i]);
-        v.y[i] = clip(y - abar * free(y, lo, hi, c.qs[i] + v.wy[i]), lo, hi);
+    let n = v.y.len();
+    let (ys, ylo, yhi, wy, qs) = (&mut v.y[..n], &v.ylo[..n], &v.yhi[..n], &v.wy[..n], &c.qs[..n]);
+    for i in 0..n {
+        let (y, lo, hi) = (ys[i], ylo[i], yhi[i]);
+        ys[i] = clip(y - abar * free(y, lo, hi, qs[i] + wy[i]), lo, hi);
     }
     sweep(c, v, st)
 }

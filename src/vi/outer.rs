@@ -56,8 +56,9 @@ fn passes<R: Rows>(
             let Vectors { y, ylo, yhi, parts, .. } = &mut *v;
             super::par::run1(c.par, y, parts, |r0, yo| {
                 let mut moved = 0.0;
+                let (ylo, yhi) = (&ylo[r0..r0 + yo.len()], &yhi[r0..r0 + yo.len()]);
                 for (k, yk) in yo.iter_mut().enumerate() {
-                    let cl = clip(*yk, ylo[r0 + k], yhi[r0 + k]);
+                    let cl = clip(*yk, ylo[k], yhi[k]);
                     if cl != *yk {
                         moved += 1.0;
                         *yk = cl;
@@ -130,26 +131,10 @@ fn new_box<R: Rows>(
     }
     p.rule.all_bounds(p.blocks, z, &mut v.lo, &mut v.hi);
 
+    let have_prev = st.have_prev;
+    let (change, bmax, same, valid) = scale_box(v, c.sd, have_prev);
     let Vectors { lo, hi, lo_prev, hi_prev, ylo, yhi, .. } = &mut *v;
     let sd = c.sd;
-    let have_prev = st.have_prev;
-    let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
-    for i in 0..lo.len() {
-        let (l, h) = (lo[i], hi[i]);
-        valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
-        if l.is_finite() {
-            bmax = larger(bmax, l.abs());
-        }
-        if h.is_finite() {
-            bmax = larger(bmax, h.abs());
-        }
-        if have_prev {
-            change = larger(larger(change, bound_diff(l, lo_prev[i])), bound_diff(h, hi_prev[i]));
-            same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
-        }
-        ylo[i] = l * sd[i];
-        yhi[i] = h * sd[i];
-    }
     if !valid {
         if have_prev {
             // Keep the last valid box for the final unscaling.
@@ -172,6 +157,34 @@ fn new_box<R: Rows>(
     }
     st.bmax = bmax;
     Ok(NewBox { change, bmax, same })
+}
+
+/// The scaled box `ylo, yhi` of `lo, hi`, and the box's largest change against `lo_prev, hi_prev`
+/// (with `have_prev`), its largest finite bound, whether it is bit-identical to the previous one
+/// and whether it is valid (lo <= hi, no infinite bound on the wrong side).
+fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool) -> (f64, f64, bool, bool) {
+    let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
+    // every vector cut to n rows, so that the loop's indexing needs no bounds checks
+    let n = v.lo.len();
+    let (lo, hi, lo_prev, hi_prev) = (&v.lo[..n], &v.hi[..n], &v.lo_prev[..n], &v.hi_prev[..n]);
+    let (ylo, yhi, sd) = (&mut v.ylo[..n], &mut v.yhi[..n], &sd[..n]);
+    for i in 0..n {
+        let (l, h) = (lo[i], hi[i]);
+        valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
+        if l.is_finite() {
+            bmax = larger(bmax, l.abs());
+        }
+        if h.is_finite() {
+            bmax = larger(bmax, h.abs());
+        }
+        if have_prev {
+            change = larger(larger(change, bound_diff(l, lo_prev[i])), bound_diff(h, hi_prev[i]));
+            same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
+        }
+        ylo[i] = l * sd[i];
+        yhi[i] = h * sd[i];
+    }
+    (change, bmax, same, valid)
 }
 
 /// z = the unscaled iterate: the warm start itself while y is still it (`State::kept`).

@@ -208,7 +208,15 @@ pub(super) fn unscale(y: f64, ylo: f64, yhi: f64, lo: f64, hi: f64, sc: f64) -> 
 pub(super) fn unscale_into<R: Rows>(c: &Ctx<R>, v: &mut Vectors, z: &mut [f64]) {
     let Vectors { y, lo, hi, ylo, yhi, parts, .. } = v;
     let sc = c.sc;
-    par::map(c.par, z, parts, |i, zi| *zi = unscale(y[i], ylo[i], yhi[i], lo[i], hi[i], sc[i]));
+    par::run1(c.par, z, parts, |r0, zo| {
+        // the block's rows of every vector, so that the loop's indexing needs no bounds checks
+        let b = || r0..r0 + zo.len();
+        let (y, ylo, yhi, lo, hi, sc) = (&y[b()], &ylo[b()], &yhi[b()], &lo[b()], &hi[b()], &sc[b()]);
+        for (k, zk) in zo.iter_mut().enumerate() {
+            *zk = unscale(y[k], ylo[k], yhi[k], lo[k], hi[k], sc[k]);
+        }
+        par::Partial::default()
+    });
 }
 
 /// Clips y into the scaled box.
@@ -245,21 +253,25 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
     let pt = par::run2(c.par, wy, yt, parts, |r0, wo, to| {
         let mut pt = Partial::default();
         let mut bad = 0.0;
-        for (k, (wk, tk)) in wo.iter_mut().zip(to.iter_mut()).enumerate() {
-            let i = r0 + k;
-            let yi = y[i];
-            let w = if PRODUCT { c.rows.row(i, y, *wk) } else { *wk };
-            *wk = w;
-            let f = qs[i] + w;
-            let zi = unscale(yi, ylo[i], yhi[i], lo[i], hi[i], sc[i]);
-            let (r, rg) = c.measure.row(zi, gs[i] * f, lo[i], hi[i], dd[i]);
-            let t = clip(yi - beta * f, ylo[i], yhi[i]);
-            *tk = t;
+        // the block's rows of every vector, so that the loop's indexing needs no bounds checks
+        let m = wo.len();
+        let b = || r0..r0 + m;
+        let (yb, ylo, yhi, lo, hi) = (&y[b()], &ylo[b()], &yhi[b()], &lo[b()], &hi[b()]);
+        let (sc, gs, qs, dd, to) = (&sc[b()], &gs[b()], &qs[b()], &dd[b()], &mut to[..m]);
+        for k in 0..m {
+            let yi = yb[k];
+            let w = if PRODUCT { c.rows.row(r0 + k, y, wo[k]) } else { wo[k] };
+            wo[k] = w;
+            let f = qs[k] + w;
+            let zi = unscale(yi, ylo[k], yhi[k], lo[k], hi[k], sc[k]);
+            let (r, rg) = c.measure.row(zi, gs[k] * f, lo[k], hi[k], dd[k]);
+            let t = clip(yi - beta * f, ylo[k], yhi[k]);
+            to[k] = t;
             let e = yi - t;
             pt.s0 += e * e;
             // Infeasibility of y: a max per block; `reduce` sums the blocks, which keeps
             // "> 0" intact.
-            pt.s1 = larger(pt.s1, larger(ylo[i] - yi, yi - yhi[i]));
+            pt.s1 = larger(pt.s1, larger(ylo[k] - yi, yi - yhi[k]));
             pt.m0 = larger(pt.m0, r);
             pt.m1 = larger(pt.m1, zi.abs());
             pt.m2 = larger(pt.m2, rg);
