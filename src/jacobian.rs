@@ -52,6 +52,18 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// v[start..start + N] as an array (one bounds check).
+#[inline(always)]
+pub fn range_n<const N: usize>(v: &[f64], start: usize) -> &[f64; N] {
+    v[start..start + N].try_into().expect("a slice of N entries")
+}
+
+/// [`range_n`], mutable.
+#[inline(always)]
+pub fn range_n_mut<const N: usize>(v: &mut [f64], start: usize) -> &mut [f64; N] {
+    (&mut v[start..start + N]).try_into().expect("a slice of N entries")
+}
+
 /// [`dot`] over a[..N] and b[..N], unrolled (the same sum).
 #[inline(always)]
 pub fn dot_n<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
@@ -134,13 +146,22 @@ impl Jacobian {
         &self.vals[s.val as usize..s.val as usize + s.width()]
     }
 
+    /// The entries of a segment of width N, as an array: one bounds check where a slice and its
+    /// first N entries take three (`N` must be the segment's width).
+    #[inline(always)]
+    pub fn vals_n<const N: usize>(&self, s: &Segment) -> &[f64; N] {
+        debug_assert_eq!(s.width(), N);
+        let v = s.val as usize;
+        self.vals[v..v + N].try_into().expect("a slice of N entries")
+    }
+
     /// Segment s's entries dotted with its range of `v` (a global vector, or a cluster-local
     /// one for segments with cluster-local starts).
     #[inline(always)]
     pub fn dot(&self, s: &Segment, v: &[f64]) -> f64 {
         match s.width() {
             // a rigid body's segment, unrolled
-            3 => dot_n::<3>(self.vals(s), &v[s.start()..]),
+            3 => dot_n::<3>(self.vals_n::<3>(s), range_n::<3>(v, s.start())),
             _ => dot(self.vals(s), &v[s.dofs()]),
         }
     }

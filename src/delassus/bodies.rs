@@ -16,7 +16,7 @@
 use crate::body::MAX_DOF;
 use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
-use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small};
+use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small, range_n_mut};
 use std::sync::{Arc, Mutex};
 
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
@@ -270,10 +270,10 @@ impl BodyPart {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
         for s in segs.clone() {
-            let (zr, vals) = (z[s.row()], jac.vals(s));
+            let zr = z[s.row()];
             match s.width() {
-                3 => axpy::<3>(zr, vals, &mut u[s.start()..]),
-                _ => u[s.dofs()].iter_mut().zip(vals).for_each(|(ui, a)| *ui += a * zr),
+                3 => axpy::<3>(zr, jac.vals_n::<3>(s), range_n_mut::<3>(u, s.start())),
+                _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
             }
         }
         for (b, &start) in start.iter().enumerate() {
