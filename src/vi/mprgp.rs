@@ -143,15 +143,15 @@ fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
         if RESIDUAL {
             let z = unscale(y, lo, hi, zlo[i], zhi[i], sc[i]);
             let (r, rg) = c.measure.row(z, gs[i] * g, zlo[i], zhi[i], dd[i]);
-            res = larger(res, r);
-            gap = larger(gap, rg);
-            zn = larger(zn, z.abs());
+            res = larger(r, res);
+            gap = larger(rg, gap);
+            zn = larger(z.abs(), zn);
         }
         let b = chopped(y, lo, hi, g);
         bb += b * b;
         let f = free(y, lo, hi, g);
         // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
-        let fr = if f > 0.0 { smaller(f, (y - lo) / abar) } else { larger(f, (y - hi) / abar) };
+        let fr = if f > 0.0 { smaller((y - lo) / abar, f) } else { larger((y - hi) / abar, f) };
         ff += fr * f;
         if CONJ {
             fap += f * wyt[i];
@@ -206,9 +206,9 @@ fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f6
         pap += p * ap;
         gp += (qs[i] + wy[i]) * p;
         if p > 0.0 {
-            af = smaller(af, (y[i] - ylo[i]) / p);
+            af = smaller((y[i] - ylo[i]) / p, af);
         } else if p < 0.0 {
-            af = smaller(af, (y[i] - yhi[i]) / p);
+            af = smaller((y[i] - yhi[i]) / p, af);
         }
     }
     (pap, gp, af.max(0.0))

@@ -172,13 +172,13 @@ fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool) -> (f64, f64, bool, b
         let (l, h) = (lo[i], hi[i]);
         valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
         if l.is_finite() {
-            bmax = larger(bmax, l.abs());
+            bmax = larger(l.abs(), bmax);
         }
         if h.is_finite() {
-            bmax = larger(bmax, h.abs());
+            bmax = larger(h.abs(), bmax);
         }
         if have_prev {
-            change = larger(larger(change, bound_diff(l, lo_prev[i])), bound_diff(h, hi_prev[i]));
+            change = larger(bound_diff(h, hi_prev[i]), larger(bound_diff(l, lo_prev[i]), change));
             same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
         }
         ylo[i] = l * sd[i];

@@ -7,6 +7,7 @@
 //! vectors around each product. [`Rows`] gives the sweeps one interface to both.
 
 use super::Operator;
+use super::pc::larger;
 use sprs::CsMatView;
 
 /// The scaled W and q of one call, plus the zero rows (all stored entries 0, or for a
@@ -44,14 +45,15 @@ impl Scaling {
         self.zero_rows.clear();
     }
 
-    /// Scaling factors of row i from its diagonal entry d (guarded here).
-    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) {
+    /// Scaling factors of row i from its diagonal entry d (guarded here); returns sc.
+    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) -> f64 {
         let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
         let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
         self.sd[i] = sd;
         self.sc[i] = sc;
         self.gs[i] = if jacobi { sc } else { 1.0 / d };
         self.dd[i] = d;
+        sc
     }
 
     /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column
@@ -115,8 +117,8 @@ impl Scaling {
             if d == 0.0 {
                 self.zero_rows.push(i);
             }
-            self.set_factors(i, d, jacobi);
-            max_diag = max_diag.max(self.sc[i] * d * self.sc[i]);
+            let sc = self.set_factors(i, d, jacobi);
+            max_diag = larger(sc * d * sc, max_diag);
         }
         max_diag
     }
@@ -124,9 +126,12 @@ impl Scaling {
     /// q̂ = sc q; returns max(1, ||D⁻¹q||_inf) (D⁻¹ q = gs q̂ in both modes).
     pub fn scale_q(&mut self, q: &[f64]) -> f64 {
         let mut dq: f64 = 0.0;
-        for (i, &qi) in q.iter().enumerate() {
-            self.qs[i] = self.sc[i] * qi;
-            dq = dq.max((self.gs[i] * self.qs[i]).abs());
+        // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
+        let n = q.len();
+        let (qs, sc, gs) = (&mut self.qs[..n], &self.sc[..n], &self.gs[..n]);
+        for i in 0..n {
+            qs[i] = sc[i] * q[i];
+            dq = larger((gs[i] * qs[i]).abs(), dq);
         }
         dq.max(1.0)
     }
