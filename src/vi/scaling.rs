@@ -45,15 +45,9 @@ impl Scaling {
         self.zero_rows.clear();
     }
 
-    /// Scaling factors of row i from its diagonal entry d (guarded here); returns sc.
-    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) -> f64 {
-        let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
-        let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
-        self.sd[i] = sd;
-        self.sc[i] = sc;
-        self.gs[i] = if jacobi { sc } else { 1.0 / d };
-        self.dd[i] = d;
-        sc
+    /// Scaling factors of row i from its diagonal entry d (guarded here).
+    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) {
+        (self.sd[i], self.sc[i], self.gs[i], self.dd[i]) = factors(d, jacobi);
     }
 
     /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column
@@ -113,12 +107,14 @@ impl Scaling {
         diag.resize(n, 0.0);
         w.diagonal(diag);
         let mut max_diag: f64 = 0.0;
-        for (i, &d) in diag.iter().enumerate() {
+        // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
+        let (sd, sc, gs, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.gs[..n], &mut self.dd[..n]);
+        for (i, &d) in diag[..n].iter().enumerate() {
             if d == 0.0 {
                 self.zero_rows.push(i);
             }
-            let sc = self.set_factors(i, d, jacobi);
-            max_diag = larger(sc * d * sc, max_diag);
+            (sd[i], sc[i], gs[i], dd[i]) = factors(d, jacobi);
+            max_diag = larger(sc[i] * d * sc[i], max_diag);
         }
         max_diag
     }
@@ -135,6 +131,15 @@ impl Scaling {
         }
         dq.max(1.0)
     }
+}
+
+/// A row's scaling factors (sd, sc, gs, dd) from its diagonal entry d, guarded: d <= 0 or not
+/// finite counts as 1 (module docs of `vi`, "Zero diagonals").
+#[inline(always)]
+fn factors(d: f64, jacobi: bool) -> (f64, f64, f64, f64) {
+    let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
+    let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
+    (sd, sc, if jacobi { sc } else { 1.0 / d }, d)
 }
 
 /// Ŵ as the sweeps see it: `prepare(x, out, tmp)` before a sweep, then `row(i, x, out[i])`
