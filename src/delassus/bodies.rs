@@ -16,7 +16,7 @@
 use crate::body::MAX_DOF;
 use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
-use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small, range_n_mut};
+use crate::jacobian::{Jacobian, Segment, dot, dot_n, extend_small, range_n, range_n_mut};
 use std::sync::{Arc, Mutex};
 
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
@@ -45,6 +45,8 @@ pub(super) struct Blocks {
     packed: Vec<usize>,
     kinv: Vec<f64>,
     root: Vec<f64>,
+    /// Every body has 3 DOFs (a pile of rigid bodies): K̃_c⁻¹ of body b is `kinv[9 b..9 b + 9]`.
+    all_rigid: bool,
     /// The length of the body vectors (B's columns).
     dofs: usize,
 }
@@ -88,6 +90,7 @@ impl Blocks {
                 blocks.packed.push(blocks.packed[b] + n * (n + 1) / 2);
             }
         }
+        blocks.all_rigid = blocks.n.iter().all(|&n| n == 3);
         blocks
     }
 
@@ -206,9 +209,9 @@ impl BodyPart {
         for (i, s) in all.iter().enumerate() {
             let k = rigid[s.cluster()];
             if k != NONE && s.width() == 3 {
-                // unrolled
-                let v = jac.vals(s);
-                solve_n::<3>(&kinv[k as usize..], v, &mut x);
+                // unrolled, over arrays (one bounds check each)
+                let v = jac.vals_n::<3>(s);
+                solve_n::<3>(range_n::<9>(kinv, k as usize), v, &mut x);
                 diagonal[s.row()] += dot_n::<3>(v, &x);
                 count += 1;
                 continue;
@@ -276,9 +279,16 @@ impl BodyPart {
                 _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
             }
         }
-        for (b, &start) in start.iter().enumerate() {
-            let r = start..start + ns[b];
-            self.solve(b, &u[r.clone()], &mut v[r]);
+        if self.blocks.all_rigid {
+            // the rigid bodies' blocks in turn, without the call and the size test per body
+            for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
+                solve_n::<3>(k, range_n::<3>(u, start), range_n_mut::<3>(v, start));
+            }
+        } else {
+            for (b, &start) in start.iter().enumerate() {
+                let r = start..start + ns[b];
+                self.solve(b, &u[r.clone()], &mut v[r]);
+            }
         }
         for s in segs {
             out[s.row()] += jac.dot(s, v);
