@@ -102,9 +102,10 @@ impl Vectors {
         }
         self.parts.clear();
         self.parts.resize(n.div_ceil(BLOCK), Partial::default());
+        let (z0, y, sd) = (&mut self.z0[..n], &mut self.y[..n], &sd[..n]);
         for i in 0..n {
-            self.z0[i] = z[i];
-            self.y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
+            z0[i] = z[i];
+            y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
         }
     }
 }
