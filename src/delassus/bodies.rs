@@ -331,24 +331,24 @@ impl BodyPart {
         m.fill(0.0);
         for s in self.segs(jac) {
             let (b, w) = (self.body(s), sc[s.row()] * sc[s.row()]);
-            let (n, local, r) = (ns[b], self.local(s), &root[square[b]..]);
-            let mb = &mut m[packed[b]..packed[b + 1]];
+            let n = ns[b];
             if n == 3 && s.width() == 3 {
-                // a rigid body's row, unrolled: t = Rᵀ s, M += w t tᵀ. The same sums as the
-                // general loop below, which would cost 3.3 M more instructions of a 27.6 M warm
-                // step on the 1,000-disk pile (callgrind)
-                let (r, v) = (&r[..9], &jac.vals(s)[..3]);
+                // a rigid body's row, unrolled over arrays: t = Rᵀ s, M += w t tᵀ. The same sums
+                // as the general loop below, which would cost 3.3 M more instructions of a 27.6 M
+                // warm step on the 1,000-disk pile (callgrind)
+                let (r, v, mb) =
+                    (range_n::<9>(root, square[b]), jac.vals_n::<3>(s), range_n_mut::<6>(m, packed[b]));
                 let t = [
                     r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
                     r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
                     r[6] * v[0] + r[7] * v[1] + r[8] * v[2],
                 ];
                 let wt = [w * t[0], w * t[1], w * t[2]];
-                let mb = &mut mb[..6];
                 (mb[0], mb[1], mb[2]) = (mb[0] + wt[0] * t[0], mb[1] + wt[1] * t[0], mb[2] + wt[1] * t[1]);
                 (mb[3], mb[4], mb[5]) = (mb[3] + wt[2] * t[0], mb[4] + wt[2] * t[1], mb[5] + wt[2] * t[2]);
                 continue;
             }
+            let (local, r, mb) = (self.local(s), &root[square[b]..], &mut m[packed[b]..packed[b + 1]]);
             let mut t = [0.0; MAX_DOF];
             // t_j = Σ_i R_ij s_i (R column-major), then M += w t tᵀ (packed lower triangle)
             for (j, tj) in t[..n].iter_mut().enumerate() {
