@@ -151,8 +151,7 @@ impl Jacobian {
     #[inline(always)]
     pub fn vals_n<const N: usize>(&self, s: &Segment) -> &[f64; N] {
         debug_assert_eq!(s.width(), N);
-        let v = s.val as usize;
-        self.vals[v..v + N].try_into().expect("a slice of N entries")
+        range_n::<N>(&self.vals, s.val as usize)
     }
 
     /// Segment s's entries dotted with its range of `v` (a global vector, or a cluster-local

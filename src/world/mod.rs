@@ -302,7 +302,13 @@ impl World {
     /// v0 of the coming step: the initial velocity on the first (trial) step, then k v1 with k the
     /// velocity carry (DDA's dynamic ratio, math note §1.1).
     fn v0(&self, body: &Body) -> Dofs {
-        v0_of(body, self.started, self.model.physics.velocity_carry)
+        body.velocity * self.v0_scale()
+    }
+
+    /// The factor of [`Self::v0`]: 1 on the first step (`v * 1.0` is `v` bit for bit), then the
+    /// velocity carry.
+    fn v0_scale(&self) -> f64 {
+        if self.started { self.model.physics.velocity_carry } else { 1.0 }
     }
 
     fn interface(&self, a: usize, b: usize) -> &Interface {
@@ -313,11 +319,6 @@ impl World {
     fn bounds<'a>(&self, laws: &'a [crate::contact::law::Law]) -> ContactBounds<'a> {
         ContactBounds { laws, share_cohesion: self.settings.share_cohesion }
     }
-}
-
-/// [`World::v0`] of `body`, once a step was `started`, with the velocity carry `carry`.
-fn v0_of(body: &Body, started: bool, carry: f64) -> Dofs {
-    if started { body.velocity * carry } else { body.velocity }
 }
 
 /// c of math note §10.9: the damping C = c dt K of the strain DOFs; a stiff strain mode's

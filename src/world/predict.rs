@@ -42,7 +42,7 @@ impl World {
             match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
                 // a mesh body's load (math note §9.1)
                 Some(fe) => {
-                    let v0_scale = if self.started { self.model.physics.velocity_carry } else { 1.0 };
+                    let v0_scale = self.v0_scale();
                     let fm = fe.step_load(g, v0_scale, dt);
                     df[self.dofs.range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
                 }

@@ -59,15 +59,14 @@ impl World {
                 p.current = body.moved_point(p.current, &dbar(p.body, body));
             }
         }
-        let (started, carry) = (self.started, self.model.physics.velocity_carry);
-        let v0_scale = if started { carry } else { 1.0 };
+        let v0_scale = self.v0_scale();
         for (b, body) in self.bodies.iter_mut().enumerate() {
             if body.mesh.is_some() {
                 let r = dofs.range(b);
                 body.apply_mesh_step(&m.dbar[r.clone()], &m.dvel[r], v0_scale, dt);
                 continue;
             }
-            let v0 = super::v0_of(body, started, carry);
+            let v0 = body.velocity * v0_scale;
             body.apply_increment(&dbar(b, body));
             if !body.fixed {
                 body.velocity = dofs.gather(&m.dvel, b) * (2.0 / dt) - v0;
