@@ -297,6 +297,7 @@ pub(super) fn run<R: Rows>(
             return end;
         }
         let a = *abar.get_or_insert_with(|| step_length.for_test(c, v, st));
+        debug_assert!(!swept || cg.is_none(), "every sweep restarts the directions");
         let sums = match (swept, cg.is_some()) {
             (true, _) => measure::<R, false, false>(c, v, st, a),
             (false, true) => measure::<R, true, true>(c, v, st, a),
