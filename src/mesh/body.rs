@@ -11,6 +11,9 @@ use super::tri3::{Pattern, Tri3, Vec6};
 use crate::geometry::{Vec2, cross};
 use crate::model::MeshShape;
 
+/// Area coordinates closer than this count as a tie in [`MeshBody::locate`].
+const LOCATE_TIE: f64 = 1e-12;
+
 /// One mesh body in its current configuration.
 #[derive(Debug, Clone)]
 pub struct MeshBody {
@@ -179,7 +182,10 @@ impl MeshBody {
     }
 
     /// The triangle holding `x` (current configuration) and its area coordinates; a point
-    /// slightly outside goes to the nearest triangle by area coordinates.
+    /// slightly outside goes to the nearest triangle by area coordinates. A point on an edge or
+    /// a node lies in every triangle that shares it: the first of them by index is taken, so
+    /// that round-off in the node coordinates does not switch a monitor between elements (and
+    /// their stresses) from step to step.
     pub fn locate(&self, x: Vec2) -> Option<(usize, [f64; 3])> {
         let coords = |t: &[usize; 3]| {
             let (pa, pb, pc) = (self.nodes[t[0]], self.nodes[t[1]], self.nodes[t[2]]);
@@ -188,12 +194,11 @@ impl MeshBody {
             let lb = cross(pc - x, pa - x) / area2;
             [la, lb, 1.0 - la - lb]
         };
-        let worst = |l: &[f64; 3]| l.iter().fold(f64::INFINITY, |m, &v| m.min(v));
-        self.triangles
-            .iter()
-            .enumerate()
-            .map(|(e, t)| (e, coords(t)))
-            .max_by(|a, b| worst(&a.1).total_cmp(&worst(&b.1)))
+        let worst = |t: &[usize; 3]| coords(t).iter().fold(f64::INFINITY, |m, &v| m.min(v));
+        let best = self.triangles.iter().map(worst).max_by(f64::total_cmp)?;
+        // area coordinates are O(1): a tie is a difference at the level of round-off
+        let e = self.triangles.iter().position(|t| worst(t) >= best - LOCATE_TIE)?;
+        Some((e, coords(&self.triangles[e])))
     }
 
     /// How the point with area coordinates `l` in triangle `e` moves: `(dof of u_x, weight)` of
@@ -356,4 +361,49 @@ impl MeshBody {
 fn rotation(theta: f64) -> Matrix2<f64> {
     let (s, c) = theta.sin_cos();
     Matrix2::new(c, -s, s, c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit square split into four triangles around its centre node 4: the centre lies in all
+    /// four, a corner node in two, an edge's midpoint (on a diagonal) in two. `locate` takes the
+    /// first triangle that holds the point, whatever the round-off of the point: moved by
+    /// ±1e-15 (a few ulps of 1) in either coordinate, the answer is the same triangle. The
+    /// expected indices are the first triangles (in the list below) that contain each point.
+    #[test]
+    fn a_point_on_shared_nodes_and_edges_locates_to_the_first_triangle_holding_it() {
+        let nodes = vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(0.0, 1.0),
+            Vec2::new(0.5, 0.5),
+        ];
+        let triangles = vec![[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]];
+        let mesh = crate::mesh::Mesh {
+            file: "test".into(),
+            node_tags: (1..=5).collect(),
+            nodes,
+            triangles,
+            groups: Vec::new(),
+        };
+        let shape = MeshShape { mesh, fixed_nodes: Vec::new() };
+        let fe = MeshBody::new(&shape, 1.0, Matrix3::identity(), [0.0; 3], Vec2::zeros(), 0.0);
+        let cases = [
+            (Vec2::new(0.5, 0.5), 0),   // the centre: all four
+            (Vec2::new(1.0, 0.0), 0),   // corner node 1: triangles 0 and 1
+            (Vec2::new(1.0, 1.0), 1),   // corner node 2: triangles 1 and 2
+            (Vec2::new(0.0, 1.0), 2),   // corner node 3: triangles 2 and 3
+            (Vec2::new(0.75, 0.75), 1), // on the diagonal 2-4: triangles 1 and 2
+            (Vec2::new(0.5, 0.1), 0),   // inside triangle 0 only
+        ];
+        for (x, want) in cases {
+            for (dx, dy) in [(0.0, 0.0), (1e-15, 0.0), (-1e-15, 0.0), (0.0, 1e-15), (0.0, -1e-15)] {
+                let p = x + Vec2::new(dx, dy);
+                assert_eq!(fe.locate(p).map(|(e, _)| e), Some(want), "point {p:?}");
+            }
+        }
+    }
 }

@@ -14,6 +14,11 @@
 //!
 //! `cargo run --release [-- 10000] [40000]` (also the 10,000 and 40,000 piles: MPRGP only,
 //! against its own forces at tolerance 1e-10; PC and NSGS take minutes per step there).
+//!
+//! `cargo run --release -- long DISKS STEPS [TOL]` runs one pile (1000, 10000 or 40000 disks)
+//! for STEPS steps with the default method at tolerance TOL (1e-6) and reports every step
+//! that did not converge, the iterations per step and the kinetic energy: the long-run check
+//! of issue 10's "no unconverged step" (the table above covers 20 steps).
 
 use pbdda::generate::DiskPile;
 use pbdda::vi::Method;
@@ -162,8 +167,63 @@ fn error(a: &Pairs, reference: &Pairs) -> f64 {
     (num / den).sqrt()
 }
 
+/// The pile of `disks` disks (1000, 10000 or 40000).
+fn pile_of(disks: &str) -> DiskPile {
+    match disks {
+        "1000" => DiskPile::benchmark(40, 25),
+        "10000" => DiskPile::benchmark(100, 100),
+        "40000" => DiskPile::benchmark(200, 200),
+        _ => panic!("long: DISKS is 1000, 10000 or 40000, not {disks}"),
+    }
+}
+
+/// `long DISKS STEPS [TOL]`: every unconverged step of a long run, then the totals.
+fn long_run(args: &[String]) {
+    let arg = |i: usize| args.get(i).map(String::as_str);
+    let (Some(disks), Some(steps)) =
+        (arg(0), arg(1).and_then(|s| s.parse::<usize>().ok()).filter(|&n| n > 0))
+    else {
+        panic!("usage: long DISKS STEPS [TOL]");
+    };
+    let tol: f64 = arg(2).map_or(1e-6, |t| t.parse().expect("TOL is a number"));
+    let mut m = pile_of(disks).model();
+    m.solver.tolerance = tol;
+    let mut w = World::new(m);
+    let (mut iters, mut ms, mut failed) = (Vec::new(), Vec::new(), Vec::new());
+    println!("{disks} disks, {steps} steps, tolerance {tol:e}, method {}", w.model.solver.method.name());
+    for s in 0..steps {
+        let t = Instant::now();
+        let rec = w.step().expect("pbdda step");
+        ms.push(t.elapsed().as_secs_f64() * 1e3);
+        iters.push(rec.inner_iterations);
+        if !rec.converged {
+            failed.push(s);
+            println!(
+                "step {s}: not converged, residual {:.3e} after {} iterations, {:.0} ms, kinetic energy {:.3e}",
+                rec.residual, rec.inner_iterations, ms[s], rec.kinetic_energy
+            );
+        }
+        if (s + 1) % 50 == 0 || s + 1 == steps {
+            println!("step {s}: kinetic energy {:.3e} J/m", rec.kinetic_energy);
+        }
+    }
+    let mean = iters.iter().sum::<usize>() as f64 / steps as f64;
+    iters.sort_unstable();
+    println!(
+        "{} of {steps} steps not converged (first: {:?}); iterations per step median {}, mean {mean:.2}, max {}; ms per step median {:.2}",
+        failed.len(),
+        failed.first(),
+        iters[steps / 2],
+        iters[steps - 1],
+        Times::of(&ms).warm_median
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if args.get(1).is_some_and(|a| a == "long") {
+        return long_run(&args[2..]);
+    }
     let has = |n: &str| args.iter().any(|a| a == n);
     let mut piles = vec![("1,000 disks", DiskPile::benchmark(40, 25))];
     if has("10000") {
