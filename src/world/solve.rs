@@ -118,10 +118,9 @@ impl Runner<'_> {
 
     /// One VI solve with the scene's options; on a cold step, once it has converged, continued
     /// from its answer to the tightened tolerances (math note §10.11) with at most as many
-    /// iterations again, within what is left of the step's budget. A continuation that misses
-    /// is dropped: z goes back to the first answer, so the rule never changes whether a step
-    /// converges. Returns the report (both solves counted) and whether z is the solver's last
-    /// answer (for [`vi::Solver::gaps`]).
+    /// iterations again, within what is left of the step's budget. A continuation that misses is dropped: z goes back to the first
+    /// answer, so the rule never changes whether a step converges. Returns the report (both
+    /// solves counted) and whether z is the solver's last answer (for [`vi::Solver::gaps`]).
     fn solve_vi(&mut self, problem: &Problem, rule: &dyn vi::BoundRule, z: &mut [f64]) -> (vi::Report, bool) {
         // `[solver] max_iterations` bounds the step's solves together (scene format)
         let left = self.opts.max_iterations.saturating_sub(self.report.inner_iterations);
