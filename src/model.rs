@@ -68,7 +68,7 @@ pub struct ContactSettings {
 pub struct SolverSettings {
     /// Scaled natural residual of the VI (math note §4.3).
     pub tolerance: f64,
-    /// Inner iterations per step: all VI solves of the step and their outer loops together.
+    /// Inner PC iterations per step, all outer loops together.
     pub max_iterations: usize,
     /// VI method (`auto`, `pc`, `nsgs`, `mprgp`; math note §4.7, §4.8).
     pub method: crate::vi::Method,

@@ -118,23 +118,17 @@ impl Runner<'_> {
 
     /// One VI solve with the scene's options; on a cold step, once it has converged, continued
     /// from its answer to the tightened tolerances (math note §10.11) with at most as many
-    /// iterations again, within what is left of the step's budget. A continuation that misses is dropped: z goes back to the first
+    /// iterations again. A continuation that misses is dropped: z goes back to the first
     /// answer, so the rule never changes whether a step converges. Returns the report (both
     /// solves counted) and whether z is the solver's last answer (for [`vi::Solver::gaps`]).
     fn solve_vi(&mut self, problem: &Problem, rule: &dyn vi::BoundRule, z: &mut [f64]) -> (vi::Report, bool) {
-        // `[solver] max_iterations` bounds the step's solves together (scene format)
-        let left = self.opts.max_iterations.saturating_sub(self.report.inner_iterations);
-        let first =
-            self.pipeline.vi.solve(problem, rule, z, &vi::Options { max_iterations: left, ..self.opts });
+        let first = self.pipeline.vi.solve(problem, rule, z, &self.opts);
         let Some(factor) = self.tighten.filter(|_| first.converged) else { return (first, true) };
         let answer = z.to_vec();
         let tight = vi::Options {
             tolerance: self.opts.tolerance * factor,
             gap_tolerance: self.opts.gap_tolerance * factor,
-            max_iterations: first
-                .inner_iterations
-                .max(MIN_CONTINUATION)
-                .min(left.saturating_sub(first.inner_iterations)),
+            max_iterations: first.inner_iterations.max(MIN_CONTINUATION),
             ..self.opts
         };
         let more = self.pipeline.vi.solve(problem, rule, z, &tight);
