@@ -13,21 +13,23 @@ pub(super) struct Contact {
     pub law: Law,
     pub memory: Option<Memory>,
     /// g0 as the solver sees it ([`solver_gap`]): a gap or penetration within the allowance
-    /// counts as touching; a deeper penetration is corrected by its excess (math note §10.2).
+    /// counts as touching; beyond it, a persistent contact's by its excess (math note §10.2).
     pub start_gap: f64,
 }
 
-/// g0 as the solver sees it (math note §10.2): 0 within the allowance on either side; a gap
-/// beyond it in full, as a new contact's penetration; the penetration of a contact the last step
-/// had (`persistent`) by its excess over the allowance, so that a penetration creeping through
-/// the allowance asks the solver for that step's creep, not for its whole depth at once.
+/// g0 as the solver sees it (math note §10.2): 0 within the allowance on either side; for a
+/// contact the last step had (`persistent`), a gap or penetration beyond it less the allowance,
+/// so that a gap or penetration creeping through the allowance asks the solver for that step's
+/// creep, not for its whole size at once; a new contact's g0 whole.
 pub(super) fn solver_gap(g0: f64, allowance: f64, persistent: bool) -> f64 {
     if g0.abs() < allowance {
         0.0
-    } else if g0 < 0.0 && persistent {
+    } else if !persistent {
+        g0
+    } else if g0 < 0.0 {
         g0 + allowance
     } else {
-        g0
+        g0 - allowance
     }
 }
 
@@ -109,24 +111,27 @@ impl World {
 mod tests {
     use super::solver_gap;
 
-    /// Math note §10.2: 0 within the allowance; a persistent contact's penetration by its excess
-    /// (continuous at the allowance); a new contact's penetration and any gap beyond the
-    /// allowance whole. All values are sums of powers of two, so the comparisons are exact.
+    /// Math note §10.2: 0 within the allowance; a persistent contact's gap or penetration beyond
+    /// it by its excess (continuous at the allowance); a new contact's g0 whole. All values are
+    /// sums of powers of two, so the comparisons are exact.
     #[test]
-    fn solver_gap_is_zero_within_the_allowance_and_a_persistent_penetration_its_excess() {
+    fn solver_gap_is_zero_within_the_allowance_and_a_persistent_contact_its_excess() {
         let a = 0.25;
         for persistent in [false, true] {
             assert_eq!(solver_gap(0.0, a, persistent), 0.0);
             assert_eq!(solver_gap(0.125, a, persistent), 0.0);
             assert_eq!(solver_gap(-0.125, a, persistent), 0.0);
-            assert_eq!(solver_gap(0.375, a, persistent), 0.375);
             // with no allowance, g0 itself
             assert_eq!(solver_gap(-0.5, 0.0, persistent), -0.5);
+            assert_eq!(solver_gap(0.5, 0.0, persistent), 0.5);
         }
         assert_eq!(solver_gap(-0.25, a, true), 0.0);
+        assert_eq!(solver_gap(0.25, a, true), 0.0);
         assert_eq!(solver_gap(-0.375, a, true), -0.125);
+        assert_eq!(solver_gap(0.375, a, true), 0.125);
         assert_eq!(solver_gap(-2.0, a, true), -1.75);
         assert_eq!(solver_gap(-0.375, a, false), -0.375);
+        assert_eq!(solver_gap(0.375, a, false), 0.375);
         assert_eq!(solver_gap(-2.0, a, false), -2.0);
     }
 }
