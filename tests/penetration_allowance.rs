@@ -1,6 +1,7 @@
 //! The penetration allowance of math note §10.2: a new contact's penetration is removed whole;
 //! a contact the last step had that penetrates deeper than the allowance is corrected by the
-//! excess only, so it ends the step penetrating by the allowance.
+//! excess only, so it ends the step penetrating by the allowance; and a contact the last step had
+//! whose gap is wider than the allowance closes to the allowance, not to zero.
 
 use pbdda::body::Dofs;
 use pbdda::world::World;
@@ -32,7 +33,7 @@ fn disk_on_floor(depth: f64) -> World {
 /// 5e-11 m deep. Tolerance 1e-12 m: the same accuracy as above, and 50 times smaller than the
 /// allowance, so the test tells the two rules apart (the whole-depth rule ends at 0).
 #[test]
-fn a_new_penetration_is_removed_whole_and_a_persistent_one_down_to_the_allowance() {
+fn a_new_penetration_is_removed_whole_and_a_persistent_gap_or_penetration_down_to_the_allowance() {
     let (r, depth) = (0.5, 1e-6);
     let mut world = disk_on_floor(depth);
     let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
@@ -51,5 +52,24 @@ fn a_new_penetration_is_removed_whole_and_a_persistent_one_down_to_the_allowance
         (y2 + allowance).abs() < 1e-12,
         "after step 2 the disk's centre is {y2:e} m above r, expected {:e}",
         -allowance
+    );
+
+    // Step 3, the gap side: the disk is lifted to 1e-6 m above the floor and gravity (g = 10) is
+    // switched on; it falls g dt²/2 = 5e-4 m in the step, far more than the gap, so it lands. The
+    // contact persists, its gap is handed over less the allowance (still the 5e-11 m floor: step
+    // 2's force z ≈ 1e-6 / W_jj = 39 keeps 10 tol |z| W_jj at 1e-14 m), and the disk stops
+    // 5e-11 m above the floor. The solver's gap accuracy is now tol |z| W_jj = 1e-8 × g dt²/2 =
+    // 5e-12 m (z ≈ (g dt²/2) / W_jj), so the tolerance is 1e-11 m, 5 times below the allowance
+    // (the whole-gap rule ends at 0).
+    let mut up = Dofs::zeros();
+    up[1] = y2.abs() + depth;
+    world.bodies[1].apply_increment(&up);
+    world.model.physics.gravity = pbdda::geometry::Vec2::new(0.0, -10.0);
+    let rec = world.step().unwrap_or_else(|e| panic!("{e}"));
+    assert!(rec.converged, "{rec:?}");
+    let y3 = world.bodies[1].centroid.y - r;
+    assert!(
+        (y3 - allowance).abs() < 1e-11,
+        "after step 3 the disk's centre is {y3:e} m above r, expected {allowance:e}"
     );
 }

@@ -181,24 +181,20 @@ impl MeshBody {
         })
     }
 
-    /// The triangle holding `x` (current configuration) and its area coordinates; a point
-    /// slightly outside goes to the nearest triangle by area coordinates. A point on an edge or
-    /// a node lies in every triangle that shares it: the first of them by index is taken, so
-    /// that round-off in the node coordinates does not switch a monitor between elements (and
-    /// their stresses) from step to step.
+    /// The triangle holding `x` (current configuration) and its area coordinates: the first that
+    /// holds it to within [`LOCATE_TIE`] in area coordinates ([`super::first_holding`], the
+    /// rule of [`super::Mesh::locate`]), so that a point on an edge or node, which lies in every
+    /// triangle that shares it, does not switch triangles (and a monitor stresses) by round-off
+    /// from step to step; a point outside every triangle goes to the nearest by area coordinates.
     pub fn locate(&self, x: Vec2) -> Option<(usize, [f64; 3])> {
-        let coords = |t: &[usize; 3]| {
-            let (pa, pb, pc) = (self.nodes[t[0]], self.nodes[t[1]], self.nodes[t[2]]);
-            let area2 = cross(pb - pa, pc - pa);
-            let la = cross(pb - x, pc - x) / area2;
-            let lb = cross(pc - x, pa - x) / area2;
-            [la, lb, 1.0 - la - lb]
-        };
-        let worst = |t: &[usize; 3]| coords(t).iter().fold(f64::INFINITY, |m, &v| m.min(v));
-        let best = self.triangles.iter().map(worst).max_by(f64::total_cmp)?;
-        // area coordinates are O(1): a tie is a difference at the level of round-off
-        let e = self.triangles.iter().position(|t| worst(t) >= best - LOCATE_TIE)?;
-        Some((e, coords(&self.triangles[e])))
+        super::first_holding(&self.nodes, &self.triangles, x, LOCATE_TIE).or_else(|| {
+            let worst = |l: &[f64; 3]| l.iter().fold(f64::INFINITY, |m, &v| m.min(v));
+            self.triangles
+                .iter()
+                .enumerate()
+                .map(|(e, &t)| (e, super::area_coords(&self.nodes, t, x)))
+                .max_by(|a, b| worst(&a.1).total_cmp(&worst(&b.1)))
+        })
     }
 
     /// How the point with area coordinates `l` in triangle `e` moves: `(dof of u_x, weight)` of

@@ -148,6 +148,29 @@ pub enum MeshErrorKind {
     UnknownElementType(i64),
 }
 
+/// The area coordinates of `x` in `triangle` (node indices into `nodes`): `x = Σ L_i x_i`.
+pub(crate) fn area_coords(nodes: &[Vec2], triangle: [usize; 3], x: Vec2) -> [f64; 3] {
+    let [pa, pb, pc] = triangle.map(|n| nodes[n]);
+    let area2 = crate::geometry::cross(pb - pa, pc - pa);
+    let la = crate::geometry::cross(pb - x, pc - x) / area2;
+    let lb = crate::geometry::cross(pc - x, pa - x) / area2;
+    [la, lb, 1.0 - la - lb]
+}
+
+/// The first triangle, in order, that holds `x` with every area coordinate at least `-tol`, and
+/// those coordinates: a point on a shared edge or node goes to the first triangle that has it.
+pub(crate) fn first_holding(
+    nodes: &[Vec2],
+    triangles: &[[usize; 3]],
+    x: Vec2,
+    tol: f64,
+) -> Option<(usize, [f64; 3])> {
+    triangles.iter().enumerate().find_map(|(t, &tri)| {
+        let l = area_coords(nodes, tri, x);
+        l.iter().all(|&v| v >= -tol).then_some((t, l))
+    })
+}
+
 impl Mesh {
     /// Reads a gmsh file: MSH 4.1 ASCII or binary, or MSH 2.2 ASCII.
     pub fn read(path: &Path) -> Result<Mesh, MeshError> {
@@ -218,14 +241,7 @@ impl Mesh {
     /// point moves as `sum L_i u_i`), or `None` outside the mesh. Points on a shared edge go to the
     /// first triangle in file order; `tol` widens each triangle by that much in area coordinates.
     pub fn locate(&self, x: Vec2, tol: f64) -> Option<(usize, [f64; 3])> {
-        self.triangles.iter().enumerate().find_map(|(t, &[a, b, c])| {
-            let (pa, pb, pc) = (self.nodes[a], self.nodes[b], self.nodes[c]);
-            let area2 = crate::geometry::cross(pb - pa, pc - pa);
-            let la = crate::geometry::cross(pb - x, pc - x) / area2;
-            let lb = crate::geometry::cross(pc - x, pa - x) / area2;
-            let l = [la, lb, 1.0 - la - lb];
-            l.iter().all(|&v| v >= -tol).then_some((t, l))
-        })
+        first_holding(&self.nodes, &self.triangles, x, tol)
     }
 
     /// Twice the signed area of triangle `t` (positive: counter-clockwise).

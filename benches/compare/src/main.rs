@@ -167,7 +167,7 @@ fn error(a: &Pairs, reference: &Pairs) -> f64 {
     (num / den).sqrt()
 }
 
-/// The pile of `disks` disks (1000, 10000 or 40000).
+/// The bench pile of `disks` disks (1000, 10000 or 40000), for the table and for `long`.
 fn pile_of(disks: &str) -> DiskPile {
     match disks {
         "1000" => DiskPile::benchmark(40, 25),
@@ -225,12 +225,11 @@ fn main() {
         return long_run(&args[2..]);
     }
     let has = |n: &str| args.iter().any(|a| a == n);
-    let mut piles = vec![("1,000 disks", DiskPile::benchmark(40, 25))];
-    if has("10000") {
-        piles.push(("10,000 disks", DiskPile::benchmark(100, 100)));
-    }
-    if has("40000") {
-        piles.push(("40,000 disks", DiskPile::benchmark(200, 200)));
+    let mut piles = vec![("1,000 disks", pile_of("1000"))];
+    for (arg, name) in [("10000", "10,000 disks"), ("40000", "40,000 disks")] {
+        if has(arg) {
+            piles.push((name, pile_of(arg)));
+        }
     }
     println!(
         "| pile | engine | ms/step, mean of {STEPS} | ms/step, median of steps 2-{STEPS} | iterations/step | step-1 force error | sink [m] after {STEPS} steps |"
