@@ -186,7 +186,7 @@ impl RunSummary {
     }
 }
 
-/// Kind of a warning line of the world (see `world::solve`, `World::penetration_warnings`).
+/// Kind of a warning line of the world (see `world::solve`, `World::close_contacts`).
 fn warning_kind(w: &Warning) -> &'static str {
     match w {
         Warning::NotConverged { .. } => "solver not converged",

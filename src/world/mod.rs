@@ -208,12 +208,12 @@ impl World {
             }
             warnings.push(Warning::Trouble { step, trouble });
         }
-        let records = self.close_contacts(&contacts, &solved);
+        let (records, penetrations) = self.close_contacts(&contacts, &solved, step);
         self.pipeline.recycle(solved.rows);
         if let Some(rows2) = solved.rows2 {
             self.pipeline.recycle(rows2);
         }
-        warnings.extend(self.penetration_warnings(&contacts, step));
+        warnings.extend(penetrations);
         stages.update = clock.lap();
         Ok(StepRecord {
             step,

@@ -55,6 +55,10 @@ impl World {
         // math note §10.1: below this reach, what the refinement can change is far below its
         // stop criterion
         let still = (SETTLED * self.threshold * self.feature).sqrt();
+        // no pair of bodies reaches it (a pass over the bodies, not over the contacts)
+        if 2.0 * reach.iter().fold(0.0f64, |m, &r| m.max(r)) <= still {
+            return None;
+        }
         let watched: Vec<usize> = (0..contacts.len())
             .filter(|&k| {
                 let (r, a, b) = (contacts[k].law.row, contacts[k].geom.a, contacts[k].geom.b);
