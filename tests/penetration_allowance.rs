@@ -23,7 +23,8 @@ fn disk_on_floor(depth: f64) -> World {
 
 /// Step 1: the disk starts 1e-6 m deep, a contact no step has seen: the solver removes the whole
 /// depth, and the disk ends on the floor (centre at r) to the solver's gap accuracy, here
-/// tol × |z| × W_jj ≈ 1e-8 × 40 × 2.5e-8 = 1e-14 m (W_jj = dt² / (2m), m = ρπr² = 1963 kg; z ≈
+/// tol × |z| × W_jj ≈ 1e-8 × 40 × 2.5e-8 = 1e-14 m (tol the scene's default tolerance 1e-8,
+/// docs/scene-format.md; W_jj = dt² / (2m), m = ρπr² = 1963 kg; z ≈
 /// depth / W_jj), far inside the 1e-12 m asserted.
 ///
 /// Step 2: the disk, now touching, is moved 1e-6 m into the floor between steps. The contact

@@ -56,7 +56,7 @@ impl World {
         // stop criterion
         let still = (SETTLED * self.threshold * self.feature).sqrt();
         // no pair of bodies reaches it (a pass over the bodies, not over the contacts)
-        if 2.0 * reach.iter().fold(0.0f64, |m, &r| m.max(r)) <= still {
+        if 2.0 * reach.iter().copied().fold(0.0, f64::max) <= still {
             return None;
         }
         let watched: Vec<usize> = (0..contacts.len())

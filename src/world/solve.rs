@@ -219,7 +219,7 @@ impl World {
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
             let state = self.classify(contacts, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, |_| true);
-            let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state.impacting_rows);
+            let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
             let motions = self.motions(&dbar);
             let shapes = &mut runner.pipeline.shapes;
             let next = (refinements < MAX_REFINEMENTS)
@@ -333,11 +333,11 @@ impl World {
         df: &[f64],
         z: &[f64],
         dp: &[f64],
-        impacting: &[bool],
+        state: &Classified,
     ) -> Vec<f64> {
         let mut d: Vec<f64> = dp.iter().zip(df).map(|(x, f)| x + f).collect();
-        if impacting.contains(&true) {
-            let dimp = self.response(rows, z, |r| impacting[r]);
+        if state.impacts {
+            let dimp = self.response(rows, z, |r| state.impacting_rows[r]);
             d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);
         }
         d

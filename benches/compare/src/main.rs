@@ -173,7 +173,7 @@ fn pile_of(disks: &str) -> DiskPile {
         "1000" => DiskPile::benchmark(40, 25),
         "10000" => DiskPile::benchmark(100, 100),
         "40000" => DiskPile::benchmark(200, 200),
-        _ => panic!("long: DISKS is 1000, 10000 or 40000, not {disks}"),
+        _ => panic!("DISKS is 1000, 10000 or 40000, not {disks}"),
     }
 }
 
