@@ -117,6 +117,8 @@ mod scaling;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_aim;
+#[cfg(test)]
 mod tests_mprgp;
 
 pub use method::Method;
@@ -204,6 +206,9 @@ impl BoundRule for FixedBounds {
     }
 }
 
+/// The default [`Options::aim`] (math note §4.11).
+pub const AIM: f64 = 0.5;
+
 #[derive(Debug, Clone, Copy)]
 pub struct Options {
     /// Scaled natural residual to reach (math note §4.3).
@@ -222,6 +227,13 @@ pub struct Options {
     /// A force the solution may legitimately reach (e.g. the weight and momentum of all the
     /// bodies the contacts carry); the divergence test's scale S includes it (default 0).
     pub force_scale: f64,
+    /// Where a solve that has to iterate stops, as a fraction of the tolerance (math note
+    /// §4.11): a start already within `tolerance` is kept as it is; a run that is not stops at
+    /// `aim * tolerance` or one iteration after it first met `tolerance`, whichever comes first,
+    /// so that the next warm-started steps have room before their drift reaches the tolerance.
+    /// A run cut short by the iteration cap or a stall within the tolerance still converges.
+    /// 1 stops at the tolerance itself.
+    pub aim: f64,
 }
 
 impl Default for Options {
@@ -233,6 +245,7 @@ impl Default for Options {
             jacobi: true,
             gap_tolerance: f64::INFINITY,
             force_scale: 0.0,
+            aim: AIM,
         }
     }
 }

@@ -24,7 +24,7 @@
 use super::Status;
 use super::face::{self, Face};
 use super::measure::Measure;
-use super::pc::{Ctx, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
+use super::pc::{Ctx, Goal, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
 use super::scaling::Rows;
 
 /// Proportioning constant Γ (Dostál's usual choice).
@@ -268,7 +268,7 @@ impl Faces {
     }
 }
 
-/// One MPRGP run down to `inner_tol`, with the same contract as `pc::run`: the sweep over y
+/// One MPRGP run down to its goal, with the same contract as `pc::run`: the sweep over y
 /// is fresh on entry (wy = Ŵy), y lies in the box; `Ok` when the tolerance is met.
 ///
 /// Passes over the rows are made only where their results are used, with the same results bit
@@ -282,7 +282,7 @@ pub(super) fn run<R: Rows>(
     c: &Ctx<R>,
     v: &mut Vectors,
     st: &mut State,
-    inner_tol: f64,
+    goal: &mut Goal,
     limit: f64,
     max_iterations: usize,
     step_length: &StepLength,
@@ -290,10 +290,10 @@ pub(super) fn run<R: Rows>(
     let mut abar = None; // a start that meets the tolerance stops without ᾱ
     let mut since_refresh = 0;
     let mut cg = None; // p is a CG direction, with this pᵀŴp (else it restarts from φ)
-    let mut faces = Faces::new(st, v.y.len(), inner_tol);
+    let mut faces = Faces::new(st, v.y.len(), goal.tol);
     let mut swept = true; // a sweep measured y: its results are in `st`
     loop {
-        if swept && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+        if swept && let Some(end) = stop(st, goal, limit, max_iterations) {
             return end;
         }
         let a = *abar.get_or_insert_with(|| step_length.for_test(c, v, st));
@@ -304,7 +304,7 @@ pub(super) fn run<R: Rows>(
             (false, false) => measure::<R, true, false>(c, v, st, a),
         };
         let Some(sums) = sums else { return Err(Status::NonFinite) };
-        if !swept && let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+        if !swept && let Some(end) = stop(st, goal, limit, max_iterations) {
             return end;
         }
         swept = false;

@@ -14,7 +14,7 @@ use super::{BoundRule, Options, Stats, Status};
 use sprs::CsMatView;
 
 /// Sweeps between residual checks once the first few are done.
-const CHECK_EVERY: usize = 8;
+pub(super) const CHECK_EVERY: usize = 8;
 /// Stall guard: the residual must halve within this many sweeps, else PC takes over.
 pub const STALL_SWEEPS: usize = 400;
 
@@ -82,6 +82,10 @@ impl Work {
         let limit = growth * self.start_scale(indptr, cols, vals, q, z).max(opts.force_scale);
         let measure = Measure::new(opts);
         let (mut ref_res, mut ref_at) = (f64::INFINITY, 0usize);
+        // a start within the tolerance is kept; else the sweeps go on to the aim until the
+        // check after the first one within the tolerance (math note §4.11); a stall or the cap
+        // with the tolerance met converges
+        let (mut target, mut met_before) = (tol, false);
         let mut sweeps = 0;
         loop {
             if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
@@ -91,15 +95,18 @@ impl Work {
                     z.copy_from_slice(&self.z0);
                     return End::Fallback { sweeps };
                 }
-                if res <= opts.tolerance {
+                let met = res <= tol;
+                let stalled = res > 0.5 * ref_res && sweeps - ref_at >= STALL_SWEEPS;
+                if res <= target || (met && (met_before || stalled || sweeps >= cap)) {
                     stats.status = Status::Converged;
                     return End::Converged { sweeps, residual: res };
                 }
                 if res <= 0.5 * ref_res {
                     (ref_res, ref_at) = (res, sweeps);
-                } else if sweeps - ref_at >= STALL_SWEEPS {
+                } else if stalled {
                     return End::Fallback { sweeps };
                 }
+                (target, met_before) = (opts.aim * tol, met);
             }
             if sweeps >= cap {
                 return End::Fallback { sweeps };

@@ -49,25 +49,12 @@ fn passes<R: Rows>(
 ) -> Result<(), Status> {
     let tol = p.opts.tolerance;
     let growth = if tol > 0.0 { (1e-2 / tol).clamp(1e4, 1e8) } else { 1e8 };
+    // an inner run cut short of its aim (math note §4.11) with the tolerance met: the next
+    // pass's test decides, and the cut's reason stands if it fails
+    let mut short = None;
     loop {
         let nb = new_box(c, p, v, st, z)?;
-        // Clip the iterate into the new box.
-        let moved = {
-            let Vectors { y, ylo, yhi, parts, .. } = &mut *v;
-            super::par::run1(c.par, y, parts, |r0, yo| {
-                let mut moved = 0.0;
-                let (ylo, yhi) = (&ylo[r0..r0 + yo.len()], &yhi[r0..r0 + yo.len()]);
-                for (k, yk) in yo.iter_mut().enumerate() {
-                    let cl = clip(*yk, ylo[k], yhi[k]);
-                    if cl != *yk {
-                        moved += 1.0;
-                        *yk = cl;
-                    }
-                }
-                super::par::Partial { s0: moved, ..Default::default() }
-            })
-            .s0
-        };
+        let moved = clip_into_box(c, v);
         // Unchanged box and iterate: the last sweep is still valid. A box that moved under an
         // iterate that did not (on a warm start that needs no iteration, by rounding only: its
         // friction bounds recomputed from the unscaled answer) needs the measurements again,
@@ -82,24 +69,52 @@ fn passes<R: Rows>(
             return Err(Status::NonFinite);
         }
         let limit = growth * p.dq.max(st.znorm).max(nb.bmax);
-        // Inexact passes (see `Solver::inexact`): while the box still moves, solving the VI
-        // of a box that is about to change far below that change is wasted work. Pass m >= 1
-        // stops at max(tol, inexact * change / max(1, max|bound|)); the stopping test below
-        // still demands the full tolerance with a settled box.
-        let inner_tol = if st.outer == 0 { tol } else { tol.max(p.inexact * nb.change / nb.bmax.max(1.0)) };
         st.have_prev = true;
         if st.outer > 0 && nb.change <= tol * nb.bmax.max(1.0) && st.res <= tol {
             return Ok(());
         }
+        if let Some(reason) = short {
+            return Err(reason);
+        }
         if st.outer >= p.opts.max_outer {
             return Err(Status::OuterLimit);
         }
+        // Inexact passes (see `Solver::inexact`): while the box still moves, solving the VI of
+        // a box that is about to change far below that change is wasted work. Pass m >= 1
+        // stops at max(tol, inexact * change / max(1, max|bound|)); the stopping test above
+        // still demands the full tolerance with a settled box. A run to the tolerance itself
+        // that has to iterate aims below it, within its budget (math note §4.11).
+        let inner_tol = if st.outer == 0 { tol } else { tol.max(p.inexact * nb.change / nb.bmax.max(1.0)) };
+        let aim = if st.res > tol && inner_tol == tol { p.opts.aim * tol } else { inner_tol };
+        let goal = &mut pc::Goal::new(inner_tol, aim);
         st.outer += 1;
-        match &c.mprgp {
-            Some(abar) => super::mprgp::run(c, v, st, inner_tol, limit, p.opts.max_iterations, abar)?,
-            None => pc::run(c, v, st, inner_tol, limit, p.opts.max_iterations)?,
+        let run = match &c.mprgp {
+            Some(abar) => super::mprgp::run(c, v, st, goal, limit, p.opts.max_iterations, abar),
+            None => pc::run(c, v, st, goal, limit, p.opts.max_iterations),
+        };
+        match run {
+            Err(reason @ (Status::IterationLimit | Status::Stalled)) if st.res <= tol => short = Some(reason),
+            run => run?,
         }
     }
+}
+
+/// Clips the iterate into the box just set; the number of rows it moved.
+fn clip_into_box<R: Rows>(c: &Ctx<R>, v: &mut Vectors) -> f64 {
+    let Vectors { y, ylo, yhi, parts, .. } = v;
+    super::par::run1(c.par, y, parts, |r0, yo| {
+        let mut moved = 0.0;
+        let (ylo, yhi) = (&ylo[r0..r0 + yo.len()], &yhi[r0..r0 + yo.len()]);
+        for (k, yk) in yo.iter_mut().enumerate() {
+            let cl = clip(*yk, ylo[k], yhi[k]);
+            if cl != *yk {
+                moved += 1.0;
+                *yk = cl;
+            }
+        }
+        super::par::Partial { s0: moved, ..Default::default() }
+    })
+    .s0
 }
 
 /// Asks the rule for the box of the current iterate (z itself at the first pass, else the

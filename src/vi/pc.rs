@@ -291,17 +291,47 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
     pt.s2.is_finite() && pt.s0.is_finite()
 }
 
+/// Where an inner run may stop (math note §4.11): at `aim`, or within `tol` one iteration after
+/// it first met `tol`. A run that meets the tolerance goes one iteration further unless that
+/// iteration already took it to the aim; a problem whose floor lies between the two pays that
+/// one iteration.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Goal {
+    pub tol: f64,
+    aim: f64,
+    /// The iteration count at which a state within `tol` ends the run, once one was met.
+    deadline: Option<usize>,
+}
+
+impl Goal {
+    /// A run down to `tol`, and on to `aim` (at most `tol`) for one iteration.
+    pub fn new(tol: f64, aim: f64) -> Goal {
+        Goal { tol, aim: aim.min(tol), deadline: None }
+    }
+
+    /// Whether the run may stop at the state last measured.
+    pub fn reached(&mut self, st: &State) -> bool {
+        if st.res <= self.aim {
+            true
+        } else if st.res <= self.tol {
+            st.inner >= *self.deadline.get_or_insert(st.inner + 1)
+        } else {
+            false
+        }
+    }
+}
+
 /// Where an inner run stops, from the state last measured: divergence (|z| beyond `limit`),
-/// the tolerance met, or the iteration budget used (shared by PC and MPRGP).
+/// the goal reached, or the iteration budget used (shared by PC and MPRGP).
 pub(super) fn stop(
     st: &State,
-    inner_tol: f64,
+    goal: &mut Goal,
     limit: f64,
     max_iterations: usize,
 ) -> Option<Result<(), Status>> {
     if st.znorm > limit {
         Some(Err(Status::Diverged))
-    } else if st.res <= inner_tol {
+    } else if goal.reached(st) {
         Some(Ok(()))
     } else if st.inner >= max_iterations {
         Some(Err(Status::IterationLimit))
@@ -310,19 +340,19 @@ pub(super) fn stop(
     }
 }
 
-/// One PC run (math note §4.2) down to `inner_tol`. Invariant at the loop head: the sweep
+/// One PC run (math note §4.2) down to its goal. Invariant at the loop head: the sweep
 /// over y is fresh (wy = Ŵy, yt = P[y − beta F(y)], ee = ||y − yt||², res, znorm).
 /// `Ok` when the tolerance is met; `Err` with the reason to stop the whole solve otherwise.
 pub(super) fn run<R: Rows>(
     c: &Ctx<R>,
     v: &mut Vectors,
     st: &mut State,
-    inner_tol: f64,
+    goal: &mut Goal,
     limit: f64,
     max_iterations: usize,
 ) -> Result<(), Status> {
     loop {
-        if let Some(end) = stop(st, inner_tol, limit, max_iterations) {
+        if let Some(end) = stop(st, goal, limit, max_iterations) {
             return end;
         }
         let (r, edf, dfdf) = predictor(c, v, st)?;
@@ -334,7 +364,7 @@ pub(super) fn run<R: Rows>(
         if !sweep(c, v, st) {
             return Err(Status::NonFinite);
         }
-        if st.last_infeasible && st.res <= inner_tol {
+        if st.last_infeasible && goal.reached(st) {
             // Contraction step only: accept a point only after projecting it, so the
             // returned z is feasible and the residual is its own.
             project(c, v);

@@ -208,7 +208,7 @@ fn warm_runs_wait_longer_for_their_first_face_solve() {
 }
 
 /// The 1-D Laplacian tridiag(−1, 2, −1) of order n.
-fn laplacian(n: usize) -> sprs::CsMat<f64> {
+pub(super) fn laplacian(n: usize) -> sprs::CsMat<f64> {
     let mut t = sprs::TriMat::new((n, n));
     for i in 0..n {
         t.add_triplet(i, i, 2.0);

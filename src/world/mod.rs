@@ -59,11 +59,21 @@ pub struct Settings {
     /// Factor on the VI tolerances of a cold step, one whose contacts all start from zero force
     /// (math note §10.11); 1 turns the rule off.
     pub cold_tightening: f64,
+    /// A step's VI solve that has to iterate stops at this fraction of the tolerance or one
+    /// iteration past it ([`crate::vi::Options::aim`], math note §4.11); 1 stops at the
+    /// tolerance.
+    pub aim: f64,
 }
 
 impl Default for Settings {
     fn default() -> Self {
-        Settings { share_cohesion: true, jacobi: true, sparse_only: false, cold_tightening: 1e-2 }
+        Settings {
+            share_cohesion: true,
+            jacobi: true,
+            sparse_only: false,
+            cold_tightening: 1e-2,
+            aim: crate::vi::AIM,
+        }
     }
 }
 

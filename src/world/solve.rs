@@ -136,6 +136,8 @@ impl Runner<'_> {
             tolerance: self.opts.tolerance * factor,
             gap_tolerance: self.opts.gap_tolerance * factor,
             max_iterations: first.inner_iterations.max(MIN_CONTINUATION),
+            // the continuation is itself the tightening: it stops at its tolerance
+            aim: 1.0,
             ..self.opts
         };
         let more = self.pipeline.vi.solve(problem, rule, z, &tight);
@@ -196,6 +198,7 @@ impl World {
             jacobi: self.settings.jacobi,
             gap_tolerance: self.model.solver.tolerance * self.feature,
             force_scale: self.force_scale(),
+            aim: self.settings.aim,
         };
         // a cold step (math note §10.11): its error becomes the motion later steps inherit
         let factor = self.settings.cold_tightening;

@@ -210,12 +210,13 @@ fn long_run(args: &[String]) {
     let mean = iters.iter().sum::<usize>() as f64 / steps as f64;
     iters.sort_unstable();
     println!(
-        "{} of {steps} steps not converged (first: {:?}); iterations per step median {}, mean {mean:.2}, max {}; ms per step median {:.2}",
+        "{} of {steps} steps not converged (first: {:?}); iterations per step median {}, mean {mean:.2}, max {}; ms per step median {:.2}, mean {:.2} after step 0",
         failed.len(),
         failed.first(),
         iters[steps / 2],
         iters[steps - 1],
-        Times::of(&ms).warm_median
+        Times::of(&ms).warm_median,
+        ms[1..].iter().sum::<f64>() / (steps - 1).max(1) as f64
     );
 }
 
