@@ -252,6 +252,47 @@ fn gaps_come_from_the_last_product() {
     }
 }
 
+/// `Solver::residual_again` is the residual a solve of a changed q measures at the last answer
+/// before it iterates: on the stick case of `gaps_come_from_the_last_product` (explicit and
+/// matrix-free W, with and without Jacobi scaling), solved to 1e-12, then q's tangential entry
+/// moved by δ. The fresh solve from that answer with no iteration allowed reports the same
+/// residual to 1e-14 relative (its product is made anew from D^{1/2} z, so the two differ by
+/// rounding only). δ = 1e-9 keeps the answer within a tolerance of 1e-6 and δ = 1e-3 does not;
+/// both sides agree on which. After a solve that did not converge there is no product: `None`.
+#[test]
+fn residual_again_is_the_next_solves_first_measure() {
+    for jacobi in [true, false] {
+        for free in [false, true] {
+            let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
+            let (explicit, wrapped) = (m.clone(), MatrixFree(m.clone()));
+            let w: &dyn Operator = if free { &wrapped } else { &explicit };
+            for delta in [1e-9, 1e-3] {
+                let mut ws = mprgp();
+                let (q1, q2) = ([-2.0, -0.2], [-2.0, -0.2 + delta]);
+                let mut z = vec![0.0, 0.0];
+                let p1 = Problem { w, q: &q1, blocks: &[0, 2] };
+                assert!(ws.solve(&p1, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
+                let o = opts(1e-6, jacobi);
+                let again =
+                    ws.residual_again(&q2, &z, &o).expect("a converged MPRGP solve ends with a sweep");
+                let p2 = Problem { w, q: &q2, blocks: &[0, 2] };
+                let first =
+                    ws.solve(&p2, &Friction(0.5), &mut z.clone(), &Options { max_iterations: 0, ..o });
+                let label = format!("jacobi {jacobi} free {free} delta {delta}: {again:e} vs {first:?}");
+                assert!((again - first.residual).abs() <= 1e-14 * first.residual.max(1e-300), "{label}");
+                assert_eq!(again <= o.tolerance, first.converged, "{label}");
+                assert_eq!(again <= o.tolerance, delta < 1e-6, "{label}");
+            }
+            let mut ws = mprgp();
+            let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+            let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
+            let mut z = vec![0.0, 0.0];
+            assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
+            assert!(ws.residual_again(&[-2.0, -2.0], &z, &capped).is_none());
+        }
+    }
+}
+
 /// MPRGP's step length is never computed by a solve that does not iterate
 /// (`mprgp::StepLength`). A matrix-free W without row bounds gets it by 10 power iterations,
 /// each one product. From the solution (0, 3/2) of `two_by_two_active_set` a solve needs one

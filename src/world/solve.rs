@@ -77,6 +77,14 @@ pub(super) struct SolveTimes {
 }
 
 /// Runs the VI solves of one step and accumulates their report and warnings.
+/// Where solve 2 starts: solve 1's answer, whether solve 2 has rows of its own, and whether
+/// the solver's last product is of z1.
+struct Start<'a> {
+    z1: &'a [f64],
+    own_rows: bool,
+    product: bool,
+}
+
 struct Runner<'a> {
     /// The scene's options.
     opts: vi::Options,
@@ -215,11 +223,13 @@ impl World {
         };
         let mut refinements = 0;
         // the rows of the last solve 1, the linearization a further refinement gave (`None`:
-        // the rows' own), the response to z1 and the increment
-        let (rows, state, last, dp1, increment) = loop {
+        // the rows' own), the response to z1 and the increment; whether the solver's last
+        // product is of z1 (the gaps came from it)
+        let (rows, state, last, dp1, increment, product) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
+            let product = gaps.is_some();
             let state = self.classify(contacts, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, |_| true);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
@@ -234,22 +244,61 @@ impl World {
                     lin = next;
                     refinements += 1;
                 }
-                next => break (rows, state, next.map(|(next, _)| next), dp, Increment { dbar, motions }),
+                next => {
+                    break (
+                        rows,
+                        state,
+                        next.map(|(next, _)| next),
+                        dp,
+                        Increment { dbar, motions },
+                        product,
+                    );
+                }
             }
         };
         let rows2 =
             runner.rows(|a| self.impact_rows(contacts, last.as_deref().unwrap_or(&rows.lin), &state, df, a));
-        let mut z2 = z1.clone();
-        let mut dp2 = None;
-        if rows2.is_some() || state.velocity {
+        let (z2, dp2) = if rows2.is_some() || state.velocity {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
             let q2 = velocity_gaps(contacts, &solve2.q, &state);
-            runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity);
-            dp2 = Some(self.response(solve2, &z2, |_| true));
-        }
+            let from = Start { z1: &z1, own_rows: rows2.is_some(), product };
+            self.velocity_solve(&mut runner, &laws, solve2, &q2, from)
+        } else {
+            (z1.clone(), None)
+        };
         let w_diag_max = rows.w.largest_diagonal();
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
         Solved { laws, rows, rows2, z1, z2, dp1, dp2, increment, state, report, warnings, w_diag_max, times }
+    }
+
+    /// Solve 2 from z1 (math note §1.3 d, §10.5): its answer and response (`None`: z1's, dp1).
+    /// Not run when z1 already solves it: the same W and bounds (no rows of its own, not a
+    /// cold step), the solver's last product of z1 at hand, and the residual a run would
+    /// measure at z1 within the tolerance; a run would keep z1 bit for bit (§4.11).
+    fn velocity_solve(
+        &self,
+        runner: &mut Runner,
+        laws: &[Law],
+        solve2: &Rows,
+        q2: &[f64],
+        from: Start,
+    ) -> (Vec<f64>, Option<Vec<f64>>) {
+        let mut z2 = from.z1.to_vec();
+        let kept = (!from.own_rows && from.product && runner.tighten.is_none())
+            .then(|| runner.pipeline.vi.residual_again(q2, from.z1, &runner.opts))
+            .flatten()
+            .filter(|&r| r <= runner.opts.tolerance);
+        if let Some(residual) = kept {
+            // as `Runner::run` after a converged solve: the polish of §10.10
+            runner.report.residual = runner.report.residual.max(residual);
+            if !self.polish(solve2, q2, &self.bounds(laws), &mut z2) {
+                return (z2, None);
+            }
+        } else {
+            runner.run(self, laws, solve2, q2, &mut z2, SolveKind::Velocity);
+        }
+        let dp2 = self.response(solve2, &z2, |_| true);
+        (z2, Some(dp2))
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact
