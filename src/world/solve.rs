@@ -76,7 +76,6 @@ pub(super) struct SolveTimes {
     pub vi: f64,
 }
 
-/// Runs the VI solves of one step and accumulates their report and warnings.
 /// Where solve 2 starts: solve 1's answer, whether solve 2 has rows of its own, and whether
 /// the solver's last product is of z1.
 struct Start<'a> {
@@ -85,6 +84,7 @@ struct Start<'a> {
     product: bool,
 }
 
+/// Runs the VI solves of one step and accumulates their report and warnings.
 struct Runner<'a> {
     /// The scene's options.
     opts: vi::Options,
