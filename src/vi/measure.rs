@@ -52,6 +52,39 @@ impl Measure {
     }
 }
 
+/// Where a run may stop (math note §4.11), shared by PC, MPRGP and NSGS: at its start if that
+/// is within `tol` (a start within the tolerance is kept); else at `aim`, or within `tol` one
+/// count after it first met `tol`, the count being iterations (PC, MPRGP) or residual checks
+/// (NSGS). A problem whose floor lies between the two pays that one count.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Goal {
+    pub tol: f64,
+    aim: f64,
+    /// No state was judged yet: the next one is the run's start.
+    start: bool,
+    /// The count at which a state within `tol` ends the run, once one was met.
+    deadline: Option<usize>,
+}
+
+impl Goal {
+    /// A run down to `tol`, and on to `aim` (at most `tol`) for one count.
+    pub fn new(tol: f64, aim: f64) -> Goal {
+        Goal { tol, aim: aim.min(tol), start: true, deadline: None }
+    }
+
+    /// Whether the run may stop at a state of residual `res` after `count` iterations or checks.
+    pub fn reached(&mut self, res: f64, count: usize) -> bool {
+        let start = std::mem::replace(&mut self.start, false);
+        if res <= self.aim || (start && res <= self.tol) {
+            true
+        } else if res <= self.tol {
+            count >= *self.deadline.get_or_insert(count + 1)
+        } else {
+            false
+        }
+    }
+}
+
 impl super::Solver {
     /// The residual a solve of `q` on the W of the last [`Self::solve`] would measure at the z
     /// that solve returned (`z`), with the same bounds (the same rule at the same z): from the

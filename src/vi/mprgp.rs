@@ -23,8 +23,8 @@
 
 use super::Status;
 use super::face::{self, Face};
-use super::measure::Measure;
-use super::pc::{Ctx, Goal, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
+use super::measure::{Goal, Measure};
+use super::pc::{Ctx, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
 use super::scaling::Rows;
 
 /// Proportioning constant Γ (Dostál's usual choice).

@@ -9,7 +9,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::local::{Local, MAX};
-use super::measure::Measure;
+use super::measure::{Goal, Measure};
 use super::{BoundRule, Options, Stats, Status};
 use sprs::CsMatView;
 
@@ -82,11 +82,10 @@ impl Work {
         let limit = growth * self.start_scale(indptr, cols, vals, q, z).max(opts.force_scale);
         let measure = Measure::new(opts);
         let (mut ref_res, mut ref_at) = (f64::INFINITY, 0usize);
-        // a start within the tolerance is kept; else the sweeps go on to the aim until the
-        // check after the first one within the tolerance (math note §4.11); a stall or the cap
-        // with the tolerance met converges
-        let (mut target, mut met_before) = (tol, false);
-        let mut sweeps = 0;
+        // counted in residual checks (math note §4.11); a stall or the cap with the tolerance
+        // met converges
+        let mut goal = Goal::new(tol, opts.aim * tol);
+        let (mut sweeps, mut checks) = (0, 0);
         loop {
             if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
                 stats.products += 1;
@@ -97,7 +96,7 @@ impl Work {
                 }
                 let met = res <= tol;
                 let stalled = res > 0.5 * ref_res && sweeps - ref_at >= STALL_SWEEPS;
-                if res <= target || (met && (met_before || stalled || sweeps >= cap)) {
+                if goal.reached(res, checks) || (met && (stalled || sweeps >= cap)) {
                     stats.status = Status::Converged;
                     return End::Converged { sweeps, residual: res };
                 }
@@ -106,7 +105,7 @@ impl Work {
                 } else if stalled {
                     return End::Fallback { sweeps };
                 }
-                (target, met_before) = (opts.aim * tol, met);
+                checks += 1;
             }
             if sweeps >= cap {
                 return End::Fallback { sweeps };

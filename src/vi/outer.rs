@@ -2,6 +2,7 @@
 //! the current iterate, block by block, clips the iterate into it and runs the PC solver from
 //! there, until the box settles and the iterate solves the VI of its own box.
 
+use super::measure::Goal;
 use super::pc::{self, Ctx, State, Vectors, clip, larger};
 use super::scaling::Rows;
 use super::{BoundRule, Options, Report, Status};
@@ -85,8 +86,8 @@ fn passes<R: Rows>(
         // still demands the full tolerance with a settled box. A run to the tolerance itself
         // that has to iterate aims below it, within its budget (math note §4.11).
         let inner_tol = if st.outer == 0 { tol } else { tol.max(p.inexact * nb.change / nb.bmax.max(1.0)) };
-        let aim = if st.res > tol && inner_tol == tol { p.opts.aim * tol } else { inner_tol };
-        let goal = &mut pc::Goal::new(inner_tol, aim);
+        let aim = if inner_tol == tol { p.opts.aim * tol } else { inner_tol };
+        let goal = &mut Goal::new(inner_tol, aim);
         st.outer += 1;
         let run = match &c.mprgp {
             Some(abar) => super::mprgp::run(c, v, st, goal, limit, p.opts.max_iterations, abar),

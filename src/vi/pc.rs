@@ -1,7 +1,7 @@
 //! The inner solver: self-adaptive projection-contraction (math note §4.2) on the scaled
 //! variables y = D^{1/2} z, with the fused sweeps that carry its products.
 
-use super::measure::Measure;
+use super::measure::{Goal, Measure};
 use super::par::{self, BLOCK, Partial};
 use super::scaling::{Rows, Scaling};
 use super::{Correction, Stats, Status};
@@ -291,36 +291,6 @@ fn measure_rows<R: Rows, const PRODUCT: bool>(c: &Ctx<R>, v: &mut Vectors, st: &
     pt.s2.is_finite() && pt.s0.is_finite()
 }
 
-/// Where an inner run may stop (math note §4.11): at `aim`, or within `tol` one iteration after
-/// it first met `tol`. A run that meets the tolerance goes one iteration further unless that
-/// iteration already took it to the aim; a problem whose floor lies between the two pays that
-/// one iteration.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Goal {
-    pub tol: f64,
-    aim: f64,
-    /// The iteration count at which a state within `tol` ends the run, once one was met.
-    deadline: Option<usize>,
-}
-
-impl Goal {
-    /// A run down to `tol`, and on to `aim` (at most `tol`) for one iteration.
-    pub fn new(tol: f64, aim: f64) -> Goal {
-        Goal { tol, aim: aim.min(tol), deadline: None }
-    }
-
-    /// Whether the run may stop at the state last measured.
-    pub fn reached(&mut self, st: &State) -> bool {
-        if st.res <= self.aim {
-            true
-        } else if st.res <= self.tol {
-            st.inner >= *self.deadline.get_or_insert(st.inner + 1)
-        } else {
-            false
-        }
-    }
-}
-
 /// Where an inner run stops, from the state last measured: divergence (|z| beyond `limit`),
 /// the goal reached, or the iteration budget used (shared by PC and MPRGP).
 pub(super) fn stop(
@@ -331,7 +301,7 @@ pub(super) fn stop(
 ) -> Option<Result<(), Status>> {
     if st.znorm > limit {
         Some(Err(Status::Diverged))
-    } else if goal.reached(st) {
+    } else if goal.reached(st.res, st.inner) {
         Some(Ok(()))
     } else if st.inner >= max_iterations {
         Some(Err(Status::IterationLimit))
@@ -364,7 +334,7 @@ pub(super) fn run<R: Rows>(
         if !sweep(c, v, st) {
             return Err(Status::NonFinite);
         }
-        if st.last_infeasible && goal.reached(st) {
+        if st.last_infeasible && goal.reached(st.res, st.inner) {
             // Contraction step only: accept a point only after projecting it, so the
             // returned z is feasible and the residual is its own.
             project(c, v);

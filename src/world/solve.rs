@@ -76,14 +76,6 @@ pub(super) struct SolveTimes {
     pub vi: f64,
 }
 
-/// Where solve 2 starts: solve 1's answer, whether solve 2 has rows of its own, and whether
-/// the solver's last product is of z1.
-struct Start<'a> {
-    z1: &'a [f64],
-    own_rows: bool,
-    product: bool,
-}
-
 /// Runs the VI solves of one step and accumulates their report and warnings.
 struct Runner<'a> {
     /// The scene's options.
@@ -99,7 +91,9 @@ struct Runner<'a> {
 
 impl Runner<'_> {
     /// Solves one VI into `z`; returns G = q + W z at the answer when the solver has it from its
-    /// last product ([`vi::Solver::gaps`]) and the polish (§10.10) left z alone.
+    /// last product ([`vi::Solver::gaps`]) and the polish (§10.10) left z alone. `again`: z is
+    /// the answer of the solver's last solve, on these rows' W (§10.5).
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &mut self,
         world: &World,
@@ -108,12 +102,13 @@ impl Runner<'_> {
         q: &[f64],
         z: &mut [f64],
         solve: SolveKind,
+        again: bool,
     ) -> Option<Vec<f64>> {
         let started = Instant::now();
         let rule = world.bounds(laws);
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
         self.pipeline.vi.method = world.model.solver.method;
-        let (r, last) = self.solve_vi(&problem, &rule, z);
+        let (r, last) = self.solve_vi(&problem, &rule, z, again);
         let mut gaps = None;
         if r.converged {
             if !world.polish(rows, q, &rule, z) && last {
@@ -136,7 +131,27 @@ impl Runner<'_> {
     /// iterations again. A continuation that misses is dropped: z goes back to the first
     /// answer, so the rule never changes whether a step converges. Returns the report (both
     /// solves counted) and whether z is the solver's last answer (for [`vi::Solver::gaps`]).
-    fn solve_vi(&mut self, problem: &Problem, rule: &dyn vi::BoundRule, z: &mut [f64]) -> (vi::Report, bool) {
+    ///
+    /// With `again` (z is the last solve's answer on the same W, so the same bounds), a start
+    /// that the solver's last product shows within the tolerance is kept without a solve: the
+    /// solve would keep it bit for bit (§4.11, §10.5). Not on a cold step, which continues.
+    fn solve_vi(
+        &mut self,
+        problem: &Problem,
+        rule: &dyn vi::BoundRule,
+        z: &mut [f64],
+        again: bool,
+    ) -> (vi::Report, bool) {
+        let kept = (again && self.tighten.is_none())
+            .then(|| self.pipeline.vi.residual_again(problem.q, z, &self.opts))
+            .flatten()
+            .filter(|&r| r <= self.opts.tolerance);
+        if let Some(residual) = kept {
+            return (
+                vi::Report { outer_iterations: 0, inner_iterations: 0, residual, converged: true },
+                true,
+            );
+        }
         let first = self.pipeline.vi.solve(problem, rule, z, &self.opts);
         let Some(factor) = self.tighten.filter(|_| first.converged) else { return (first, true) };
         let answer = z.to_vec();
@@ -228,7 +243,7 @@ impl World {
         let (rows, state, last, dp1, increment, product) = loop {
             let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
-            let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind);
+            let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind, false);
             let product = gaps.is_some();
             let state = self.classify(contacts, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, |_| true);
@@ -261,44 +276,19 @@ impl World {
         let (z2, dp2) = if rows2.is_some() || state.velocity {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
             let q2 = velocity_gaps(contacts, &solve2.q, &state);
-            let from = Start { z1: &z1, own_rows: rows2.is_some(), product };
-            self.velocity_solve(&mut runner, &laws, solve2, &q2, from)
+            let mut z2 = z1.clone();
+            let again = rows2.is_none() && product;
+            runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
+            // z1 kept bit for bit on solve 1's rows: its response is dp1
+            let same = rows2.is_none() && z2.iter().zip(&z1).all(|(a, b)| a.to_bits() == b.to_bits());
+            let dp2 = (!same).then(|| self.response(solve2, &z2, |_| true));
+            (z2, dp2)
         } else {
             (z1.clone(), None)
         };
         let w_diag_max = rows.w.largest_diagonal();
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
         Solved { laws, rows, rows2, z1, z2, dp1, dp2, increment, state, report, warnings, w_diag_max, times }
-    }
-
-    /// Solve 2 from z1 (math note §1.3 d, §10.5): its answer and response (`None`: z1's, dp1).
-    /// Not run when z1 already solves it: the same W and bounds (no rows of its own, not a
-    /// cold step), the solver's last product of z1 at hand, and the residual a run would
-    /// measure at z1 within the tolerance; a run would keep z1 bit for bit (§4.11).
-    fn velocity_solve(
-        &self,
-        runner: &mut Runner,
-        laws: &[Law],
-        solve2: &Rows,
-        q2: &[f64],
-        from: Start,
-    ) -> (Vec<f64>, Option<Vec<f64>>) {
-        let mut z2 = from.z1.to_vec();
-        let kept = (!from.own_rows && from.product && runner.tighten.is_none())
-            .then(|| runner.pipeline.vi.residual_again(q2, from.z1, &runner.opts))
-            .flatten()
-            .filter(|&r| r <= runner.opts.tolerance);
-        if let Some(residual) = kept {
-            // as `Runner::run` after a converged solve: the polish of §10.10
-            runner.report.residual = runner.report.residual.max(residual);
-            if !self.polish(solve2, q2, &self.bounds(laws), &mut z2) {
-                return (z2, None);
-            }
-        } else {
-            runner.run(self, laws, solve2, q2, &mut z2, SolveKind::Velocity);
-        }
-        let dp2 = self.response(solve2, &z2, |_| true);
-        (z2, Some(dp2))
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact
