@@ -60,6 +60,11 @@ pub struct Flexibility {
     formed: Vec<Option<Vec<Formed>>>,
     /// Numeric factorizations of sparse clusters so far.
     sparse_factorizations: usize,
+    /// The clusters holding a deformable body, whose mass and stiffness follow the geometry:
+    /// found on the first refresh (a new cluster layout makes a new flexibility), so that a
+    /// later one visits only them and the coupled clusters, not every body (0.1–0.2 ms of a
+    /// warm step of the 10,000-disk pile).
+    deforming: Vec<usize>,
 }
 
 /// The geometry a sparse cluster's factor was formed on: each member's mesh nodes, or its
@@ -96,6 +101,7 @@ impl Flexibility {
             factor_drift: 0.0,
             formed: Vec::new(),
             sparse_factorizations: 0,
+            deforming: Vec::new(),
         }
     }
 
@@ -135,15 +141,24 @@ impl Flexibility {
             self.stamps.clear();
             self.formed.clear();
             self.dt = dt;
+            self.deforming = (0..map.clusters())
+                .filter(|&c| map.members(c).iter().any(|&b| bodies[b].deformable))
+                .collect();
         }
         self.formed.resize(map.clusters(), None);
-        for c in 0..map.clusters() {
+        // after the first refresh, the clusters whose K̃ changes: those deforming and those a
+        // coupling acts in (connector blocks follow the anchors), each once, in cluster order
+        let changing: Vec<usize> = if first {
+            (0..map.clusters()).collect()
+        } else {
+            let coupled = couplings.iter().filter_map(|cp| map.cluster_of(cp.a));
+            let mut cs: Vec<usize> = self.deforming.iter().copied().chain(coupled).collect();
+            cs.sort_unstable();
+            cs.dedup();
+            cs
+        };
+        for c in changing {
             let members = map.members(c);
-            let coupled = couplings.iter().any(|cp| map.cluster_of(cp.a) == Some(c));
-            let changes = coupled || members.iter().any(|&b| bodies[b].deformable);
-            if !first && !changes {
-                continue;
-            }
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
             let single = members.len() == 1 && bodies[members[0]].mesh.is_none();
             let sparse = !single || self.sparse_only;

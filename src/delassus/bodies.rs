@@ -22,6 +22,12 @@ use std::sync::{Arc, Mutex};
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
 const NONE: u32 = u32::MAX;
 
+/// From this many segments on, a product over a scene of single bodies runs in two halves on
+/// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, where a
+/// product takes some 50 µs and `rayon::join` costs 5–20 µs; the 10,000-disk pile about 120,000,
+/// whose 5 MB of segments no longer fit one core's cache.
+pub const HALVES_FROM: usize = 40_000;
+
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
 /// from the factors once and kept across steps while the factors and DOF ranges stay the same
 /// ([`Blocks::current`]; math note §3.3). On a pile of rigid disks that is the whole run; the
@@ -120,6 +126,9 @@ pub(super) struct BodyPart {
     blocks: Arc<Blocks>,
     /// How many of B's segments are on body-form clusters.
     count: usize,
+    /// Where B's segments split into two halves whose rows do not overlap (every row of the
+    /// first below every row of the second), at about half of them; 0 when they do not split so.
+    split: usize,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -128,7 +137,11 @@ impl BodyPart {
     /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`.
     pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
         let mut part = BodyPart { blocks, ..Default::default() };
-        part.count = part.add_diagonal(jac, diagonal);
+        (part.count, part.split) = if jac.segments().len() >= HALVES_FROM {
+            part.add_diagonal::<true>(jac, diagonal)
+        } else {
+            part.add_diagonal::<false>(jac, diagonal)
+        };
         part
     }
 
@@ -197,8 +210,10 @@ impl BodyPart {
     /// contact joins two bodies: it neither walks nor joins the chains, whose links are made on
     /// the first other segment (a pile of rigid disks makes none). With its K̃⁻¹ found by one
     /// load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the 1,000-disk pile.
-    /// Returns the number of segments on body-form clusters.
-    fn add_diagonal(&self, jac: &Jacobian, diagonal: &mut [f64]) -> usize {
+    /// Returns the number of segments on body-form clusters and, with `SPLIT`, the split of B's
+    /// segments into halves (`BodyPart::split`, else 0), found in the same pass (its tests cost
+    /// 18 instructions a segment, 2 % of a warm step of the 1,000-disk pile, which never splits).
+    fn add_diagonal<const SPLIT: bool>(&self, jac: &Jacobian, diagonal: &mut [f64]) -> (usize, usize) {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
         let all = jac.segments();
         // per row its last segment in the chain, per segment the one before (u32, as in
@@ -206,7 +221,15 @@ impl BodyPart {
         let mut chains: Option<(Vec<u32>, Vec<u32>)> = None;
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         let mut count = 0;
+        // the largest row so far, and the split with the smallest row after it
+        let (mut top, mut split, mut low) = (0, 0, usize::MAX);
         for (i, s) in all.iter().enumerate() {
+            if SPLIT {
+                if split == 0 && 2 * i >= all.len() && i > 0 && s.row() > top {
+                    split = i;
+                }
+                (top, low) = (top.max(s.row()), if split > 0 { low.min(s.row()) } else { low });
+            }
             let k = rigid[s.cluster()];
             if k != NONE && s.width() == 3 {
                 // unrolled, over arrays (one bounds check each)
@@ -235,15 +258,19 @@ impl BodyPart {
             diagonal[s.row()] += d;
             (prev[i], last[s.row()]) = (last[s.row()], i as u32);
         }
-        count
+        let splits = split > 0 && low >= all[split].row();
+        (count, if splits { split } else { 0 })
     }
 
     /// out += W_bodies z.
     pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
-        if self.count == jac.segments().len() {
+        let all = jac.segments();
+        if self.count == all.len() && self.split > 0 && all.len() >= HALVES_FROM {
+            self.halves(jac, z, out);
+        } else if self.count == all.len() {
             // a scene of single bodies: no filter, which would cost each product a load per
             // segment
-            self.product(jac, jac.segments().iter(), true, z, out);
+            self.product(jac, all.iter(), true, z, out);
         } else {
             self.product(jac, self.segs(jac), false, z, out);
         }
@@ -272,13 +299,7 @@ impl BodyPart {
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
-        for s in segs.clone() {
-            let zr = z[s.row()];
-            match s.width() {
-                3 => axpy::<3>(zr, jac.vals_n::<3>(s), range_n_mut::<3>(u, s.start())),
-                _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
-            }
-        }
+        scatter(jac, segs.clone(), z, u);
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
             for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
@@ -290,8 +311,58 @@ impl BodyPart {
                 self.solve(b, &u[r.clone()], &mut v[r]);
             }
         }
-        for s in segs {
-            out[s.row()] += jac.dot(s, v);
+        gather(jac, segs, v, out, 0);
+    }
+
+    /// out += W_bodies z for a scene of single bodies (every segment on one) in two halves of
+    /// B's segments whose rows do not overlap (`split`): each half's generalized forces u and
+    /// its rows' products on a core of its own, and half the bodies' solves on each. Each half
+    /// sums into its own u, and a body adds the two, so that no sum depends on the threads
+    /// that ran it (one thread gives the same bits).
+    fn halves(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
+        let Blocks { start, dofs: n, .. } = &*self.blocks;
+        let n = *n;
+        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
+        let work = &mut *guard;
+        work.resize(3 * n, 0.0);
+        let (u1, rest) = work.split_at_mut(n);
+        let (u2, v) = rest.split_at_mut(n);
+        let (first, second) = jac.segments().split_at(self.split);
+        let sum = |segs, u: &mut [f64]| {
+            u.fill(0.0);
+            scatter(jac, segs, z, u);
+        };
+        rayon::join(|| sum(first, u1), || sum(second, u2));
+        let (u1, u2) = (&*u1, &*u2);
+        let half = start.len() / 2;
+        let at = start.get(half).copied().unwrap_or(n);
+        let (v1, v2) = v.split_at_mut(at);
+        rayon::join(
+            || self.solve_sums(0..half, u1, u2, v1, 0),
+            || self.solve_sums(half..start.len(), u1, u2, v2, at),
+        );
+        let (v, row) = (&*v, second[0].row());
+        let (o1, o2) = out.split_at_mut(row);
+        rayon::join(|| gather(jac, first, v, o1, 0), || gather(jac, second, v, o2, row));
+    }
+
+    /// v[start_b - offset..] = K̃_b⁻¹ (u1 + u2)[start_b..] for the bodies b of `bodies`.
+    fn solve_sums(
+        &self,
+        bodies: std::ops::Range<usize>,
+        u1: &[f64],
+        u2: &[f64],
+        v: &mut [f64],
+        offset: usize,
+    ) {
+        let Blocks { start, n: ns, .. } = &*self.blocks;
+        let mut x = [0.0; MAX_DOF];
+        for b in bodies {
+            let (s, n) = (start[b], ns[b]);
+            for i in 0..n {
+                x[i] = u1[s + i] + u2[s + i];
+            }
+            self.solve(b, &x, &mut v[s - offset..s - offset + n]);
         }
     }
 
@@ -398,6 +469,30 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
+}
+
+/// u += Σ_s sᵀ z_row(s) over the segments `segs` (u indexed by global DOF).
+fn scatter<'a>(jac: &Jacobian, segs: impl IntoIterator<Item = &'a Segment>, z: &[f64], u: &mut [f64]) {
+    for s in segs {
+        let zr = z[s.row()];
+        match s.width() {
+            3 => axpy::<3>(zr, jac.vals_n::<3>(s), range_n_mut::<3>(u, s.start())),
+            _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
+        }
+    }
+}
+
+/// out[row(s) - offset] += s · v over the segments `segs`.
+fn gather<'a>(
+    jac: &Jacobian,
+    segs: impl IntoIterator<Item = &'a Segment>,
+    v: &[f64],
+    out: &mut [f64],
+    offset: usize,
+) {
+    for s in segs {
+        out[s.row() - offset] += jac.dot(s, v);
+    }
 }
 
 /// u[..N] += x t[..N], unrolled.

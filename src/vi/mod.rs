@@ -76,7 +76,9 @@
 //! * Rows are processed in blocks of 2 048 (`par.rs`); blocks run on rayon from
 //!   [`Solver::parallel_min_rows`] rows (default 20 000). Block partial sums are reduced in
 //!   block order, so serial and parallel results are bit-identical. On a shared 2-core
-//!   machine rayon gave no measurable gain (`benches/vi.rs`, group `vi_products`).
+//!   machine rayon gave no measurable gain on these sweeps (`benches/vi.rs`, group
+//!   `vi_products`). The body form's product over a scene of single bodies does run on both
+//!   cores from `delassus::HALVES_FROM` segments on (`delassus/bodies.rs`, `BodyPart::halves`).
 //!
 //! # Failure modes (never a panic)
 //!

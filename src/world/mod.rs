@@ -261,9 +261,9 @@ impl World {
             let df = self.predict(t1);
             stages.predict += clock.lap();
             let mut pipeline = std::mem::take(&mut self.pipeline);
-            let (contacts, threshold) = self.detect(&df, &mut pipeline.pairs);
+            let (found, inputs, threshold) = self.detect(&df, &mut pipeline.pairs);
             stages.detect += clock.lap();
-            let mut solved = self.solve(&contacts, &df, &mut pipeline);
+            let mut solved = self.solve(&found, inputs, &df, &mut pipeline);
             self.pipeline = pipeline;
             stages.rows += solved.times.rows;
             stages.vi += solved.times.vi;
@@ -272,12 +272,12 @@ impl World {
             self.check_finite(&motion)?;
             let joints = self.breakage(&solved);
             if joints.contains(&true) {
-                events.extend(self.breakage_events(&contacts, &joints, step));
+                events.extend(self.breakage_events(&found.contacts, &joints, step));
                 continue;
             }
             let broke = self.break_connectors(&motion.dbar, step);
             if broke.is_empty() {
-                return Ok((contacts, solved, motion, threshold));
+                return Ok((found.contacts, solved, motion, threshold));
             }
             events.extend(broke);
             self.renumber();

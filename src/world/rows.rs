@@ -7,7 +7,7 @@
 //! built.
 
 use super::World;
-use super::detect::Contact;
+use super::detect::{Brief, Contact};
 use crate::body::MAX_DOF;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
@@ -62,14 +62,14 @@ impl World {
     /// note §10.3).
     pub(super) fn rows(
         &self,
-        contacts: &[Contact],
+        contacts: &[Brief],
         lin: Vec<Linearization>,
         df: &[f64],
         rigid: impl Fn(usize) -> bool,
         scratch: &mut Scratch,
     ) -> Rows {
-        let mut blocks: Vec<usize> = contacts.iter().map(|c| c.law.row).collect();
-        let total = contacts.last().map_or(0, |c| c.law.row + c.law.rows());
+        let mut blocks: Vec<usize> = contacts.iter().map(Brief::row).collect();
+        let total = contacts.last().map_or(0, |c| c.rows().end);
         blocks.push(total);
         let mut jac = scratch.spare.pop().unwrap_or_default();
         jac.reset(total);
@@ -77,7 +77,7 @@ impl World {
         // q = B d^f + offsets
         for (k, (c, l)) in contacts.iter().zip(&lin).enumerate() {
             self.push_contact(&mut jac, c, l, rigid(k), df, &mut q);
-            q[c.law.row] += l.offset;
+            q[c.row()] += l.offset;
         }
         let limit = delassus::EXPLICIT_LIMIT;
         // single bodies in body form, except for NSGS, whose sweeps read W's rows (math note §3.3)
@@ -98,14 +98,14 @@ impl World {
     fn push_contact(
         &self,
         jac: &mut Jacobian,
-        c: &Contact,
+        c: &Brief,
         l: &Linearization,
         rigid: bool,
         df: &[f64],
         q: &mut [f64],
     ) {
-        let (n, tau, r) = (l.normal, cw(l.normal), c.law.row);
-        for ((body, sign), x) in [(c.geom.a, 1.0), (c.geom.b, -1.0)].into_iter().zip(l.anchor) {
+        let (n, tau, r) = (l.normal, cw(l.normal), c.row());
+        for ((body, sign), x) in c.bodies().into_iter().zip([1.0, -1.0]).zip(l.anchor) {
             let b = &self.bodies[body];
             let Some(cluster) = self.dofs.cluster_of(body) else { continue };
             let range = self.dofs.range(body);
@@ -146,7 +146,7 @@ impl World {
                 }
                 jac.push_apply(row, cluster, range.start, &vals[..len], df, q);
             }
-            if c.law.rolling > 0.0 {
+            if c.rolling() {
                 let mut couple = [0.0; MAX_DOF];
                 couple[2] = sign;
                 jac.push_apply(r + 2, cluster, range.start, &couple[..len], df, q);

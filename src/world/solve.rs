@@ -2,7 +2,8 @@
 //! configuration (§10.1), then solve 2 (velocity) — and the classification of contacts
 //! (closed, impacting; §10.5).
 
-use super::detect::Contact;
+use super::detect::{Brief, Contact, Detected, Inputs};
+use super::refine::Refined;
 use super::rows::{Linearization, Rows};
 use super::{Pipeline, SolveKind, Warning, World};
 use crate::contact::law::Law;
@@ -212,8 +213,15 @@ impl World {
     /// Solve 1 with g0 in the gaps (geometry), refined on the mid-step configuration; then
     /// solve 2 with g0 dropped for the contacts closed in solve 1 (velocity), skipped when
     /// those g0 are all zero to within the allowance (math note §1.3 a, d; §10.5).
-    pub(super) fn solve(&self, contacts: &[Contact], df: &[f64], pipeline: &mut Pipeline) -> Solved {
-        let (mut z1, laws, mut lin) = inputs(contacts);
+    pub(super) fn solve(
+        &self,
+        found: &Detected,
+        inputs: Inputs,
+        df: &[f64],
+        pipeline: &mut Pipeline,
+    ) -> Solved {
+        let Inputs { warm: mut z1, laws, mut lin } = inputs;
+        let brief = &found.brief;
         let opts = vi::Options {
             tolerance: self.model.solver.tolerance,
             max_iterations: self.model.solver.max_iterations,
@@ -237,45 +245,35 @@ impl World {
             times: SolveTimes::default(),
         };
         let mut refinements = 0;
-        // the rows of the last solve 1, the linearization a further refinement gave (`None`:
-        // the rows' own), the response to z1 and the increment; whether the solver's last
+        // the rows of the last solve 1, the patches of a further refinement (`None`: the rows'
+        // own linearization), the response to z1 and the increment; whether the solver's last
         // product is of z1 (the gaps came from it)
         let (rows, state, last, dp1, increment, product) = loop {
-            let rows = runner.rows(|a| self.rows(contacts, lin, df, |_| false, a));
+            let rows = runner.rows(|a| self.rows(brief, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind, false);
             let product = gaps.is_some();
-            let state = self.classify(contacts, &rows, &z1, gaps);
+            let state = self.classify(found, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, |_| true);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
             let motions = self.motions(&dbar);
             let shapes = &mut runner.pipeline.shapes;
             let next = (refinements < MAX_REFINEMENTS)
-                .then(|| self.refine(contacts, &rows.lin, &dbar, &motions, &state, shapes))
+                .then(|| self.refine(found, &rows.lin, &dbar, &motions, &state, shapes))
                 .flatten();
             match next {
-                Some((next, true)) => {
+                Some(next) if next.changed => {
+                    lin = next.apply(&rows.lin);
                     runner.pipeline.recycle(rows);
-                    lin = next;
                     refinements += 1;
                 }
-                next => {
-                    break (
-                        rows,
-                        state,
-                        next.map(|(next, _)| next),
-                        dp,
-                        Increment { dbar, motions },
-                        product,
-                    );
-                }
+                next => break (rows, state, next, dp, Increment { dbar, motions }, product),
             }
         };
-        let rows2 =
-            runner.rows(|a| self.impact_rows(contacts, last.as_deref().unwrap_or(&rows.lin), &state, df, a));
+        let rows2 = runner.rows(|a| self.impact_rows(brief, &rows.lin, last.as_ref(), &state, df, a));
         let (z2, dp2) = if rows2.is_some() || state.velocity {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
-            let q2 = velocity_gaps(contacts, &solve2.q, &state);
+            let q2 = velocity_gaps(brief, &solve2.q, &state);
             let mut z2 = z1.clone();
             let again = rows2.is_none() && product;
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
@@ -296,19 +294,21 @@ impl World {
     /// impacting contacts.
     fn impact_rows(
         &self,
-        contacts: &[Contact],
+        contacts: &[Brief],
         lin: &[Linearization],
+        refined: Option<&Refined>,
         state: &Classified,
         df: &[f64],
         scratch: &mut super::rows::Scratch,
     ) -> Option<Rows> {
-        let impacting = |k: usize| state.impacting_rows[contacts[k].law.row];
+        let impacting = |k: usize| state.impacting_rows[contacts[k].row()];
         let deformable_impact = state.impacts
-            && (0..contacts.len()).any(|k| {
-                impacting(k)
-                    && [contacts[k].geom.a, contacts[k].geom.b].iter().any(|&b| self.bodies[b].deformable)
-            });
-        deformable_impact.then(|| self.rows(contacts, lin.to_vec(), df, impacting, scratch))
+            && (0..contacts.len())
+                .any(|k| impacting(k) && contacts[k].bodies().iter().any(|&b| self.bodies[b].deformable));
+        deformable_impact.then(|| {
+            let lin = refined.map_or_else(|| lin.to_vec(), |r| r.apply(lin));
+            self.rows(contacts, lin, df, impacting, scratch)
+        })
     }
 
     /// Ten times the gap accuracy of a solve: tolerance × max(1, |z|max) × max W_jj (the
@@ -322,7 +322,7 @@ impl World {
     /// one product here), which contacts are closed (bonded, loaded, or touching at the end of
     /// the step to within the penetration allowance), and the rows of impacting contacts (math
     /// note §10.5).
-    fn classify(&self, contacts: &[Contact], rows: &Rows, z: &[f64], gaps: Option<Vec<f64>>) -> Classified {
+    fn classify(&self, found: &Detected, rows: &Rows, z: &[f64], gaps: Option<Vec<f64>>) -> Classified {
         let gaps = gaps.unwrap_or_else(|| {
             let mut gaps = vec![0.0; z.len()];
             rows.w.apply(z, &mut gaps);
@@ -330,17 +330,16 @@ impl World {
             gaps
         });
         let touching = self.allowance;
-        // one pass over the contacts (each pass over their 216 bytes apiece cost 0.2–0.3 ms of a
-        // warm step of the 10,000-disk pile, where they no longer fit the caches)
-        let mut closed = Vec::with_capacity(contacts.len());
+        // one pass over the briefs; a contact itself only for a possible impact
+        let mut closed = Vec::with_capacity(found.brief.len());
         let mut impacting_rows = vec![false; rows.q.len()];
         let (mut impacts, mut velocity, mut bonded) = (false, false, false);
-        for c in contacts {
-            bonded |= c.law.bonded;
-            let r = c.law.row;
-            let cl = c.law.bonded || z[r] > 0.0 || gaps[r] <= touching;
-            if cl && self.is_impacting(c) {
-                impacting_rows[r..r + c.law.rows()].fill(true);
+        for (k, c) in found.brief.iter().enumerate() {
+            bonded |= c.bonded;
+            let r = c.row();
+            let cl = c.bonded || z[r] > 0.0 || gaps[r] <= touching;
+            if cl && !c.was_closed && self.is_impacting(&found.contacts[k]) {
+                impacting_rows[c.rows()].fill(true);
                 impacts = true;
             }
             velocity |= cl && c.start_gap != 0.0;
@@ -351,12 +350,10 @@ impl World {
 
     /// Math note §1.3 (b), §10.5: not closed at the end of the last step and approaching at
     /// the step start faster than the allowance per step (the caller checks that it closed
-    /// in solve 1). A slower approach is the solver's own noise, not an impact: doubling a
-    /// resting contact's share would push its bodies into their neighbours.
+    /// in solve 1 and was not closed at the end of the last step). A slower approach is the
+    /// solver's own noise, not an impact: doubling a resting contact's share would push its
+    /// bodies into their neighbours.
     fn is_impacting(&self, c: &Contact) -> bool {
-        if c.memory.is_some_and(|m| m.closed) {
-            return false;
-        }
         let x = c.geom.point;
         let velocity = |b: usize| {
             let body = &self.bodies[b];
@@ -394,30 +391,14 @@ impl World {
     }
 }
 
-/// The warm start (last step's forces of the contacts that persist), the laws and the step-start
-/// linearizations, in one pass over the contacts: each pass over their 216 bytes apiece costs
-/// about 15 µs of a warm step on the 1,000-disk pile.
-fn inputs(contacts: &[Contact]) -> (Vec<f64>, Vec<Law>, Vec<Linearization>) {
-    let mut z = vec![0.0; contacts.last().map_or(0, |c| c.law.row + c.law.rows())];
-    let (mut laws, mut lin) = (Vec::with_capacity(contacts.len()), Vec::with_capacity(contacts.len()));
-    for c in contacts {
-        let n = c.law.rows();
-        let warm = c.memory.map_or([0.0; 3], |m| m.force);
-        crate::jacobian::copy_small(&mut z[c.law.row..c.law.row + n], &warm[..n]);
-        laws.push(c.law);
-        lin.push(Linearization::initial(c));
-    }
-    (z, laws, lin)
-}
-
 /// The gaps of solve 2, the velocity solve (math note §1.3 d): the offset of every contact
 /// closed in solve 1 loses its g0 (split impulse), so that the velocity follows from the
 /// constraint alone (an impacting contact reflects its approach velocity).
-fn velocity_gaps(contacts: &[Contact], q: &[f64], state: &Classified) -> Vec<f64> {
+fn velocity_gaps(contacts: &[Brief], q: &[f64], state: &Classified) -> Vec<f64> {
     let mut q2 = q.to_vec();
     for (c, &closed) in contacts.iter().zip(&state.closed) {
         if closed {
-            q2[c.law.row] -= c.start_gap;
+            q2[c.row()] -= c.start_gap;
         }
     }
     q2
