@@ -8,6 +8,11 @@
 //! measurable gain on a shared 2-core machine). The W-product counts of each solve are
 //! printed once per configuration.
 //!
+//! Group `body_form_product`: the body form's W z (math note §3.3) on a triangular lattice of
+//! 100 × 100 rigid disks (10,000 bodies, 59,202 rows, 118,404 segments, like the 10,000-disk
+//! pile), on rayon pools of one and two threads: above `delassus::HALVES_FROM` segments the
+//! product runs in two halves (`BodyPart::halves`), the same bits on either pool.
+//!
 //! Run: `cargo bench --bench vi` (sample size 10; about two minutes on an idle machine).
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -101,5 +106,84 @@ fn products(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, solves, products);
+/// The body form's operator on a triangular lattice of `side` × `side` rigid disks, each touching
+/// its right, upper and upper-right neighbours (two rows per contact), with a z to apply it to.
+fn lattice(side: usize) -> (pbdda::delassus::ContactOperator, Vec<f64>) {
+    use pbdda::body::Body;
+    use pbdda::geometry::{Vec2, cw};
+    use pbdda::model::{BodyModel, BodySpec, Material, Plane, Shape};
+    let n = side * side;
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let centre = |i: usize| Vec2::new((i % side) as f64 + 0.5 * (i / side) as f64, (i / side) as f64 * 0.866);
+    let bodies: Vec<Body> = (0..n)
+        .map(|i| {
+            let spec = BodySpec {
+                name: format!("b{i}"),
+                shape: Shape::Disk { center: centre(i), radius: 0.5 },
+                model: BodyModel::Rigid,
+                material: 0,
+                fixed: false,
+                velocity: Vec2::zeros(),
+                angular_velocity: 0.0,
+                initial_stress: None,
+            };
+            Body::new(&spec, &material, Plane::Stress)
+        })
+        .collect();
+    let map = pbdda::dofs::DofMap::new(&bodies, &[]);
+    let mut flex = pbdda::cluster::Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 1e-3, 0.0).expect("K̃ is SPD");
+    let mut pairs = Vec::new();
+    for i in 0..n {
+        let (x, y) = (i % side, i / side);
+        if x + 1 < side {
+            pairs.push((i, i + 1));
+        }
+        if y + 1 < side {
+            pairs.push((i, i + side));
+            if x > 0 {
+                pairs.push((i, i + side - 1));
+            }
+        }
+    }
+    let mut jac = pbdda::jacobian::Jacobian::default();
+    jac.reset(2 * pairs.len());
+    for (k, &(a, b)) in pairs.iter().enumerate() {
+        let normal = (bodies[a].centroid - bodies[b].centroid).normalize();
+        let x = 0.5 * (bodies[a].centroid + bodies[b].centroid);
+        for (body, sign) in [(a, 1.0), (b, -1.0)] {
+            let r = map.range(body);
+            let cluster = map.cluster_of(body).expect("free");
+            for (row, dir) in [(2 * k, normal), (2 * k + 1, cw(normal))] {
+                jac.push(row, cluster, r.start, r.len(), bodies[body].shape_row(x, dir) * sign);
+            }
+        }
+    }
+    let z = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0).collect();
+    let op = pbdda::delassus::ContactOperator::with_scratch(
+        jac,
+        &flex,
+        &map,
+        usize::MAX,
+        true,
+        &mut Default::default(),
+    );
+    (op, z)
+}
+
+fn body_form(c: &mut Criterion) {
+    let mut group = c.benchmark_group("body_form_product");
+    group.sample_size(20).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(3));
+    let (op, z) = lattice(100);
+    let mut out = vec![0.0; z.len()];
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+        group.bench_function(format!("10000_disks_{threads}_threads"), |b| {
+            b.iter(|| pool.install(|| op.apply(black_box(&z), &mut out)))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, solves, products, body_form);
 criterion_main!(benches);

@@ -73,6 +73,9 @@ pub(super) struct Vectors {
     pub z0: Vec<f64>,
     /// Scratch for matrix-free products.
     pub tmp: Vec<f64>,
+    /// y and Ŵy before an MPRGP expansion with a guessed step length (`mprgp::expand_step`).
+    pub y_before: Vec<f64>,
+    pub wy_before: Vec<f64>,
     pub parts: Vec<Partial>,
 }
 
@@ -97,6 +100,8 @@ impl Vectors {
             &mut self.yhi,
             &mut self.z0,
             &mut self.tmp,
+            &mut self.y_before,
+            &mut self.wy_before,
         ] {
             v.resize(n, 0.0);
         }

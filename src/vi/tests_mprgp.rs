@@ -377,3 +377,39 @@ fn moved_box_after_one_step_costs_no_product() {
     assert_eq!(counts, (2, 1, true, 2), "{rep:?}");
     assert!(z[0] == 0.0 && (z[1] - 1.5).abs() < 1e-12, "{z:?}");
 }
+
+/// An expansion takes the step length a solve of the same solver computed before it, and keeps
+/// the step when the step decreased the cost; else the exact ᾱ is computed and the step done
+/// again (`mprgp::expand_step`, math note §4.8). The Laplacian chain of
+/// `mprgp_is_conjugate_gradients_on_free_rows` with q alternating −2 and 1 in the box [0, 3]:
+/// CG steps leave the box, so runs expand. A first solve computes ᾱ = 1.9/2 (Gershgorin's bound
+/// of Ŵ = W/2 with Jacobi scaling, rows (−½, 1, −½); ‖Ŵ‖ = 1 + cos(π/21) < 2). A guess of 0.9 ᾱ
+/// (below 2/‖Ŵ‖) decreases f at every expansion, as a projected gradient step with ᾱ <= 2/‖Ŵ‖
+/// always does, so the solver still holds that guess afterwards, bit for bit. A guess of 100 ᾱ
+/// (about 190/‖Ŵ‖) raises f on an expansion here, and the solver ends with the exact ᾱ again
+/// (a longer guess need not raise f: on the box [0, 5] with q = −1 the projection keeps even
+/// 100 ᾱ's steps descending). Every run converges to the first run's answer, within the 1e-12
+/// residual times cond W = 178, so 1e-9.
+#[test]
+fn expansion_keeps_a_guessed_step_length_that_decreases_the_cost() {
+    let n = 20;
+    let w = laplacian(n);
+    let rule = FixedBounds { lo: vec![0.0; n], hi: vec![3.0; n] };
+    let q: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { -2.0 } else { 1.0 }).collect();
+    let p = Problem { w: &w, q: &q, blocks: &singles(n) };
+    let mut ws = mprgp();
+    let mut first = vec![0.0; n];
+    assert!(ws.solve(&p, &rule, &mut first, &opts(1e-12, true)).converged);
+    let exact = ws.step_length.expect("the first solve expands");
+    assert!((exact - 1.9 / 2.0).abs() < 1e-12, "ᾱ {exact}");
+    for (guess, after) in [(0.9 * exact, 0.9 * exact), (100.0 * exact, exact)] {
+        ws.step_length = Some(guess);
+        let mut z = vec![0.0; n];
+        let rep = ws.solve(&p, &rule, &mut z, &opts(1e-12, true));
+        assert!(rep.converged, "guess {guess}: {rep:?}");
+        assert_eq!(ws.step_length, Some(after), "guess {guess}");
+        for (a, b) in z.iter().zip(&first) {
+            assert!((a - b).abs() < 1e-9, "guess {guess}: {z:?} vs {first:?}");
+        }
+    }
+}
