@@ -64,6 +64,7 @@ impl Brief {
         self.row()..self.row() + self.rows as usize
     }
 
+    /// Whether the contact has a rolling row.
     pub fn rolling(&self) -> bool {
         self.rows == 3
     }
