@@ -23,9 +23,9 @@ use std::sync::{Arc, Mutex};
 const NONE: u32 = u32::MAX;
 
 /// From this many segments on, a product over a scene of single bodies runs in two halves on
-/// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, where a
-/// product takes some 50 µs and `rayon::join` costs 5–20 µs; the 10,000-disk pile about 120,000,
-/// whose 5 MB of segments no longer fit one core's cache.
+/// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, which stay
+/// in one core's cache and take some 50 µs a product; the 10,000-disk pile about 120,000, whose
+/// 5 MB do not (`benches/vi.rs`, group `body_form_product`: 517 µs on one thread, 273 on two).
 pub const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
