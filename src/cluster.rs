@@ -148,6 +148,12 @@ impl Flexibility {
         self.formed.resize(map.clusters(), None);
         // after the first refresh, the clusters whose K̃ changes: those deforming and those a
         // coupling acts in (connector blocks follow the anchors), each once, in cluster order
+        // the blocks coupling a body to itself (a connector to a fixed body), by body and then in
+        // coupling order: a single body's are found by two binary searches, not by a scan of
+        // every coupling per body (O(bodies × couplings) on the first refresh)
+        let mut own: Vec<(usize, usize)> =
+            couplings.iter().enumerate().filter(|(_, cp)| cp.a == cp.b).map(|(i, cp)| (cp.a, i)).collect();
+        own.sort_unstable();
         let changing: Vec<usize> = if first {
             (0..map.clusters()).collect()
         } else {
@@ -171,8 +177,9 @@ impl Flexibility {
             let factor = if !sparse {
                 // a single body, possibly tied to fixed bodies: closed form with its own blocks
                 let b = members[0];
-                let own = couplings.iter().filter(|cp| cp.a == b && cp.b == b);
-                let (inverse, root) = body_flexibility(&bodies[b], own, dt, damping).ok_or_else(failed)?;
+                let mine = &own[own.partition_point(|&(x, _)| x < b)..own.partition_point(|&(x, _)| x <= b)];
+                let blocks = mine.iter().map(|&(_, i)| &couplings[i]);
+                let (inverse, root) = body_flexibility(&bodies[b], blocks, dt, damping).ok_or_else(failed)?;
                 Factor::Body { inverse, root }
             } else {
                 let triplets = cluster_triplets(map, c, bodies, couplings, dt, damping);
