@@ -10,7 +10,7 @@
 //!
 //! Group `body_form_product`: the body form's W z (math note §3.3) on a triangular lattice of
 //! 100 × 100 rigid disks (10,000 bodies, 59,202 rows, 118,404 segments, like the 10,000-disk
-//! pile), on rayon pools of one and two threads: above `delassus::HALVES_FROM` segments the
+//! pile), on rayon pools of one and two threads: above `HALVES_FROM` (`delassus/bodies.rs`) segments the
 //! product runs in two halves (`BodyPart::halves`), the same bits on either pool.
 //!
 //! Run: `cargo bench --bench vi` (sample size 10; about two minutes on an idle machine).

@@ -371,60 +371,6 @@ fn columns(op: &delassus::ContactOperator, rows: usize) -> Vec<f64> {
 /// exactly, bit for bit, what one built on fresh blocks gives: with the same factors (kept), and
 /// after every factor changed with a new step length (K̃ = K + 2M/dt², rebuilt), where a
 /// kept stale block would give dt = 0.01's W, a factor 4 off.
-/// A product with more segments than `delassus::HALVES_FROM` runs in two halves on both cores
-/// (`BodyPart::halves`). On a row of 10,500 rigid disks (unequal radii, so unequal masses), each
-/// touching the next at a tilted normal (4 segments per contact, 41,996 in all), the body form's
-/// W z must equal the assembled W's product (a CSR product, the same terms summed in another
-/// order: 1e-12 of the largest |W z|, a row having at most 10 terms of ~1e-16 rounding each), and
-/// give the same bits on a rayon pool of one thread and of two (the determinism contract).
-#[test]
-fn body_form_in_halves_matches_w_and_any_thread_count() {
-    let n = 10_500;
-    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-    let radius = |i: usize| 0.4 + 0.1 * ((i * 7) % 5) as f64;
-    let bodies: Vec<Body> = (0..n)
-        .map(|i| Body::new(&spec(i, 0, i as f64, 0.0, radius(i), false, false), &material, Plane::Stress))
-        .collect();
-    let map = DofMap::new(&bodies, &[]);
-    let mut flex = Flexibility::new(false);
-    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
-    let mut jac = Jacobian::default();
-    jac.reset(2 * (n - 1));
-    for k in 0..n - 1 {
-        let tilt = 0.3 * (((k * 13) % 7) as f64 / 7.0 - 0.5);
-        let nrm = Vec2::new(-tilt.cos(), -tilt.sin());
-        let x = Vec2::new(k as f64 + 0.5, 0.05 * tilt);
-        for (body, sign) in [(k, 1.0), (k + 1, -1.0)] {
-            let r = map.range(body);
-            for (row, dir) in [(2 * k, nrm), (2 * k + 1, cw(nrm))] {
-                let cluster = map.cluster_of(body).expect("free");
-                jac.push(row, cluster, r.start, r.len(), bodies[body].shape_row(x, dir) * sign);
-            }
-        }
-    }
-    assert_eq!(jac.segments().len(), 4 * (n - 1));
-    assert!(jac.segments().len() >= delassus::HALVES_FROM);
-    let w = delassus::assemble(&jac, &flex, &map);
-    let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
-    let mut want = vec![0.0; jac.rows];
-    for (r, row) in w.outer_iterator().enumerate() {
-        want[r] = row.iter().map(|(c, v)| v * z[c]).sum();
-    }
-    let op = body_form(&jac, &flex, &map);
-    let on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
-        let mut out = vec![0.0; jac.rows];
-        pool.install(|| op.apply(&z, &mut out));
-        out
-    };
-    let (one, two) = (on(1), on(2));
-    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    for r in 0..jac.rows {
-        assert!((two[r] - want[r]).abs() <= 1e-12 * scale, "(W z)[{r}] = {} vs {}", two[r], want[r]);
-        assert_eq!(one[r].to_bits(), two[r].to_bits(), "row {r}: one thread and two differ");
-    }
-}
-
 #[test]
 fn body_form_keeps_its_blocks_only_while_the_factors_stay() {
     let (bodies, map, mut flex, jac) = hexagon(false);

@@ -26,7 +26,7 @@ const NONE: u32 = u32::MAX;
 /// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, which stay
 /// in one core's cache and take some 50 µs a product; the 10,000-disk pile about 120,000, whose
 /// 5 MB do not (`benches/vi.rs`, group `body_form_product`: 517 µs on one thread, 273 on two).
-pub const HALVES_FROM: usize = 40_000;
+pub(super) const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
 /// from the factors once and kept across steps while the factors and DOF ranges stay the same
@@ -525,3 +525,7 @@ fn group(keys: impl Iterator<Item = usize> + Clone, groups: usize) -> (Vec<usize
     }
     (order, start)
 }
+
+#[cfg(test)]
+#[path = "tests_bodies.rs"]
+mod tests;

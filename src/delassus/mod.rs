@@ -28,7 +28,6 @@ use sprs::CsMat;
 use std::sync::Arc;
 
 mod bodies;
-pub use bodies::HALVES_FROM;
 
 /// Work storage of the explicit assembly, kept across steps by the world's pipeline so that a
 /// step allocates only the CSR arrays of its W.

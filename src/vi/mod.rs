@@ -78,7 +78,7 @@
 //!   block order, so serial and parallel results are bit-identical. On a shared 2-core
 //!   machine rayon gave no measurable gain on these sweeps (`benches/vi.rs`, group
 //!   `vi_products`). The body form's product over a scene of single bodies does run on both
-//!   cores from `delassus::HALVES_FROM` segments on (`delassus/bodies.rs`, `BodyPart::halves`).
+//!   cores from 40,000 segments on (`delassus/bodies.rs`, `HALVES_FROM`, `BodyPart::halves`).
 //!
 //! # Failure modes (never a panic)
 //!

@@ -1,0 +1,74 @@
+//! The body form's product in halves (`BodyPart::halves`, math note §3.3).
+
+use super::*;
+use crate::body::Body;
+use crate::geometry::{Vec2, cw};
+use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
+
+/// The halves' cut (`BodyPart::split`) on a row of 10,500 rigid disks, each touching the
+/// next (2 rows and 4 segments per contact, 41,996 segments): pushed in contact order, the
+/// first segment at or past half (20,998) whose row is above every earlier one is contact
+/// 5,250's first, segment 21,000 (20,998 and 20,999 are contact 5,249's rows on its second
+/// body). With contact 0 pushed last, rows 0 and 1 come after every cut: no split, and the
+/// serial product runs. Both products equal the assembled W's to 1e-12 of the largest
+/// |W z| (the same terms summed in another order), and give the same bits on rayon pools
+/// of one thread and of two (the determinism contract).
+#[test]
+fn products_split_only_where_no_row_straddles() {
+    let n = 10_500;
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let bodies: Vec<Body> = (0..n)
+        .map(|i| {
+            let spec = BodySpec {
+                name: format!("b{i}"),
+                shape: Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
+                model: BodyModel::Rigid,
+                material: 0,
+                fixed: false,
+                velocity: Vec2::zeros(),
+                angular_velocity: 0.0,
+                initial_stress: None,
+            };
+            Body::new(&spec, &material, Plane::Stress)
+        })
+        .collect();
+    let map = DofMap::new(&bodies, &[]);
+    let mut flex = Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; n]));
+    let contact = |jac: &mut Jacobian, k: usize| {
+        let normal = Vec2::new(-1.0, -0.1 * (k % 3) as f64).normalize();
+        let x = Vec2::new(k as f64 + 0.5, 0.0);
+        for (body, sign) in [(k, 1.0), (k + 1, -1.0)] {
+            for (row, dir) in [(2 * k, normal), (2 * k + 1, cw(normal))] {
+                jac.push(row, body, 3 * body, 3, bodies[body].shape_row(x, dir) * sign);
+            }
+        }
+    };
+    for (order, split) in [((0..n - 1).collect::<Vec<_>>(), 21_000), ((1..n - 1).chain([0]).collect(), 0)] {
+        let mut jac = Jacobian::default();
+        jac.reset(2 * (n - 1));
+        order.iter().for_each(|&k| contact(&mut jac, k));
+        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows]);
+        assert_eq!(part.split, split);
+        let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+            let mut out = vec![0.0; jac.rows];
+            pool.install(|| part.apply(&jac, &z, &mut out));
+            out
+        };
+        let (got, w) = (on(2), super::super::assemble(&jac, &flex, &map));
+        assert!(on(1).iter().zip(&got).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split}: threads");
+        let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
+        let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for r in 0..jac.rows {
+            assert!(
+                (got[r] - want[r]).abs() <= 1e-12 * scale,
+                "split {split}, row {r}: {} vs {}",
+                got[r],
+                want[r]
+            );
+        }
+    }
+}
