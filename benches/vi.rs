@@ -117,16 +117,12 @@ fn lattice(side: usize) -> (pbdda::delassus::ContactOperator, Vec<f64>) {
     let centre = |i: usize| Vec2::new((i % side) as f64 + 0.5 * (i / side) as f64, (i / side) as f64 * 0.866);
     let bodies: Vec<Body> = (0..n)
         .map(|i| {
-            let spec = BodySpec {
-                name: format!("b{i}"),
-                shape: Shape::Disk { center: centre(i), radius: 0.5 },
-                model: BodyModel::Rigid,
-                material: 0,
-                fixed: false,
-                velocity: Vec2::zeros(),
-                angular_velocity: 0.0,
-                initial_stress: None,
-            };
+            let spec = BodySpec::at_rest(
+                format!("b{i}"),
+                Shape::Disk { center: centre(i), radius: 0.5 },
+                BodyModel::Rigid,
+                false,
+            );
             Body::new(&spec, &material, Plane::Stress)
         })
         .collect();

@@ -19,16 +19,12 @@ fn products_split_only_where_no_row_straddles() {
     let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
     let bodies: Vec<Body> = (0..n)
         .map(|i| {
-            let spec = BodySpec {
-                name: format!("b{i}"),
-                shape: Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
-                model: BodyModel::Rigid,
-                material: 0,
-                fixed: false,
-                velocity: Vec2::zeros(),
-                angular_velocity: 0.0,
-                initial_stress: None,
-            };
+            let spec = BodySpec::at_rest(
+                format!("b{i}"),
+                Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
+                BodyModel::Rigid,
+                false,
+            );
             Body::new(&spec, &material, Plane::Stress)
         })
         .collect();

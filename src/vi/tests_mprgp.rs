@@ -226,28 +226,35 @@ pub(super) fn laplacian(n: usize) -> sprs::CsMat<f64> {
 /// only; the answers are O(1)); after a solve that did not converge it is `None`.
 #[test]
 fn gaps_come_from_the_last_product() {
-    for jacobi in [true, false] {
-        for free in [false, true] {
-            let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
-            let (explicit, wrapped) = (m.clone(), MatrixFree(m.clone()));
-            let w: &dyn Operator = if free { &wrapped } else { &explicit };
-            let mut ws = mprgp();
-            for q in [[-2.0, -0.2], [-2.0, -2.0]] {
-                let mut z = vec![0.0, 0.0];
-                let p = Problem { w, q: &q, blocks: &[0, 2] };
-                assert!(ws.solve(&p, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
-                let mut wz = [0.0; 2];
-                m.apply(&z, &mut wz);
-                let gaps = ws.gaps(&q).expect("a converged MPRGP solve ends with a sweep");
-                for i in 0..2 {
-                    assert!((gaps[i] - (q[i] + wz[i])).abs() < 1e-13, "{q:?}: {gaps:?} vs {wz:?}");
-                }
-            }
+    on_both_paths(|jacobi, w| {
+        let mut ws = mprgp();
+        for q in [[-2.0, -0.2], [-2.0, -2.0]] {
             let mut z = vec![0.0, 0.0];
-            let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
-            let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
-            assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
-            assert!(ws.gaps(&[-2.0, -2.0]).is_none());
+            let p = Problem { w, q: &q, blocks: &[0, 2] };
+            assert!(ws.solve(&p, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
+            let mut wz = [0.0; 2];
+            w.apply(&z, &mut wz);
+            let gaps = ws.gaps(&q).expect("a converged MPRGP solve ends with a sweep");
+            for i in 0..2 {
+                assert!((gaps[i] - (q[i] + wz[i])).abs() < 1e-13, "{q:?}: {gaps:?} vs {wz:?}");
+            }
+        }
+        let mut z = vec![0.0, 0.0];
+        let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+        let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
+        assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
+        assert!(ws.gaps(&[-2.0, -2.0]).is_none());
+    });
+}
+
+/// `test(jacobi, w)` for the stick-and-slide W = [[2, ½], [½, 1]] of `mprgp_closed_forms`, explicit
+/// and matrix-free, with and without Jacobi scaling.
+fn on_both_paths(test: impl Fn(bool, &dyn Operator)) {
+    let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
+    let (explicit, wrapped) = (m.clone(), MatrixFree(m));
+    for jacobi in [true, false] {
+        for w in [&explicit as &dyn Operator, &wrapped] {
+            test(jacobi, w);
         }
     }
 }
@@ -261,36 +268,30 @@ fn gaps_come_from_the_last_product() {
 /// both sides agree on which. After a solve that did not converge there is no product: `None`.
 #[test]
 fn residual_again_is_the_next_solves_first_measure() {
-    for jacobi in [true, false] {
-        for free in [false, true] {
-            let m = csr(2, &[2.0, 0.5, 0.5, 1.0]);
-            let (explicit, wrapped) = (m.clone(), MatrixFree(m.clone()));
-            let w: &dyn Operator = if free { &wrapped } else { &explicit };
-            for delta in [1e-9, 1e-3] {
-                let mut ws = mprgp();
-                let (q1, q2) = ([-2.0, -0.2], [-2.0, -0.2 + delta]);
-                let mut z = vec![0.0, 0.0];
-                let p1 = Problem { w, q: &q1, blocks: &[0, 2] };
-                assert!(ws.solve(&p1, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
-                let o = opts(1e-6, jacobi);
-                let again =
-                    ws.residual_again(&q2, &z, &o).expect("a converged MPRGP solve ends with a sweep");
-                let p2 = Problem { w, q: &q2, blocks: &[0, 2] };
-                let first =
-                    ws.solve(&p2, &Friction(0.5), &mut z.clone(), &Options { max_iterations: 0, ..o });
-                let label = format!("jacobi {jacobi} free {free} delta {delta}: {again:e} vs {first:?}");
-                assert!((again - first.residual).abs() <= 1e-14 * first.residual.max(1e-300), "{label}");
-                assert_eq!(again <= o.tolerance, first.converged, "{label}");
-                assert_eq!(again <= o.tolerance, delta < 1e-6, "{label}");
-            }
+    on_both_paths(|jacobi, w| {
+        let label = |delta: f64| format!("jacobi {jacobi} delta {delta}");
+        for delta in [1e-9, 1e-3] {
             let mut ws = mprgp();
-            let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
-            let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
+            let (q1, q2) = ([-2.0, -0.2], [-2.0, -0.2 + delta]);
             let mut z = vec![0.0, 0.0];
-            assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
-            assert!(ws.residual_again(&[-2.0, -2.0], &z, &capped).is_none());
+            let p1 = Problem { w, q: &q1, blocks: &[0, 2] };
+            assert!(ws.solve(&p1, &Friction(0.5), &mut z, &opts(1e-12, jacobi)).converged);
+            let o = opts(1e-6, jacobi);
+            let again = ws.residual_again(&q2, &z, &o).expect("a converged MPRGP solve ends with a sweep");
+            let p2 = Problem { w, q: &q2, blocks: &[0, 2] };
+            let first = ws.solve(&p2, &Friction(0.5), &mut z.clone(), &Options { max_iterations: 0, ..o });
+            let l = format!("{}: {again:e} vs {first:?}", label(delta));
+            assert!((again - first.residual).abs() <= 1e-14 * first.residual.max(1e-300), "{l}");
+            assert_eq!(again <= o.tolerance, first.converged, "{l}");
+            assert_eq!(again <= o.tolerance, delta < 1e-6, "{l}");
         }
-    }
+        let mut ws = mprgp();
+        let p = Problem { w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+        let capped = Options { max_iterations: 1, ..opts(1e-12, jacobi) };
+        let mut z = vec![0.0, 0.0];
+        assert!(!ws.solve(&p, &Friction(0.5), &mut z, &capped).converged);
+        assert!(ws.residual_again(&[-2.0, -2.0], &z, &capped).is_none());
+    });
 }
 
 /// MPRGP's step length is never computed by a solve that does not iterate

@@ -108,9 +108,9 @@ impl World {
             return None;
         }
         shapes.reset(self.bodies.len());
-        let Shapes { mid, end, set, found } = shapes;
+        let Shapes { mid, end, set, found: pair } = shapes;
         for &k in &watched {
-            for b in [contacts[k].geom.a, contacts[k].geom.b] {
+            for b in found.brief[k].bodies() {
                 if mid[b].is_none() {
                     mid[b] = Some(self.moved_shape(b, &(full(b) * 0.5)));
                     end[b] = Some(self.moved_shape(b, &full(b)));
@@ -127,8 +127,8 @@ impl World {
                 continue;
             };
             let (Some(m), Some(e)) = (
-                self.same_contact(c.geom.key, ma, mb, a, b, found),
-                self.same_contact(c.geom.key, ea, eb, a, b, found),
+                self.same_contact(c.geom.key, ma, mb, a, b, pair),
+                self.same_contact(c.geom.key, ea, eb, a, b, pair),
             ) else {
                 continue;
             };
