@@ -78,6 +78,27 @@ pub fn interface_for(interfaces: &[Interface], ma: usize, mb: usize) -> &Interfa
         .unwrap_or(&Interface::SMOOTH)
 }
 
+/// [`interface_for`] of every pair of materials, found once per detection: the search over the
+/// interfaces per contact grew with the number of materials.
+pub struct InterfaceTable<'a> {
+    materials: usize,
+    table: Vec<&'a Interface>,
+}
+
+impl<'a> InterfaceTable<'a> {
+    pub fn new(interfaces: &'a [Interface], materials: usize) -> Self {
+        let table = (0..materials * materials)
+            .map(|k| interface_for(interfaces, k / materials, k % materials))
+            .collect();
+        InterfaceTable { materials, table }
+    }
+
+    /// The interface of materials `ma` and `mb` (indices below the count given to [`Self::new`]).
+    pub fn get(&self, ma: usize, mb: usize) -> &'a Interface {
+        self.table[ma * self.materials + mb]
+    }
+}
+
 /// For each contact, the index of the other contact of its edge-edge joint, if both ends
 /// of the joint were found (math note §4.6).
 pub fn joint_partners<'a>(contacts: impl ExactSizeIterator<Item = &'a ContactGeom>) -> Vec<Option<usize>> {
@@ -154,6 +175,32 @@ mod tests {
             let mut lookup = memory.lookup();
             assert_eq!(lookup.get(&key(0, 1)), Some(remembered(0, 1)));
             assert_eq!(lookup.get(&key(1, 1)), Some(first));
+        }
+    }
+
+    /// The table gives each pair of materials the interface [`interface_for`] finds: the entry
+    /// naming the pair in either order, else the default entry (here: friction 0.3), and
+    /// without a default the smooth interface; checked for every ordered pair of three
+    /// materials, with and without the default.
+    #[test]
+    fn interface_table_is_interface_for_of_every_pair() {
+        let named =
+            |m: [usize; 2], friction: f64| Interface { materials: Some(m), friction, ..Interface::SMOOTH };
+        let default = Interface { friction: 0.3, ..Interface::SMOOTH };
+        let with_default = vec![named([0, 1], 0.5), default, named([2, 2], 0.7)];
+        let without = vec![named([1, 0], 0.5), named([2, 2], 0.7)];
+        for interfaces in [&with_default, &without] {
+            let table = InterfaceTable::new(interfaces, 3);
+            for (a, b) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
+                let expected = match (a.min(b), a.max(b)) {
+                    (0, 1) => 0.5,
+                    (2, 2) => 0.7,
+                    _ if interfaces.len() == 3 => 0.3,
+                    _ => 0.0,
+                };
+                assert_eq!(table.get(a, b).friction, expected, "materials {a} and {b}");
+                assert!(std::ptr::eq(table.get(a, b), interface_for(interfaces, a, b)));
+            }
         }
     }
 }

@@ -99,11 +99,11 @@ impl super::Solver {
         {
             return None;
         }
-        let measure = Measure::new(opts);
+        let (measure, gs) = (Measure::new(opts), s.gs());
         let (mut force, mut gap, mut znorm, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
         for i in 0..n {
             let f = s.sc[i] * q[i] + v.wy[i];
-            let (r, rg) = measure.row(z[i], s.gs[i] * f, v.lo[i], v.hi[i], s.dd[i]);
+            let (r, rg) = measure.row(z[i], gs[i] * f, v.lo[i], v.hi[i], s.dd[i]);
             force = super::pc::larger(r, force);
             gap = super::pc::larger(rg, gap);
             znorm = super::pc::larger(z[i].abs(), znorm);

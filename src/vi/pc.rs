@@ -41,7 +41,7 @@ impl<'a, R: Rows> Ctx<'a, R> {
             correction,
             sd: &s.sd,
             sc: &s.sc,
-            gs: &s.gs,
+            gs: s.gs(),
             qs: &s.qs,
             dd: &s.dd,
             measure,

@@ -22,8 +22,10 @@ pub(super) struct Scaling {
     pub sd: Vec<f64>,
     /// D^{-1/2} (Jacobi) or 1: z = sc y.
     pub sc: Vec<f64>,
-    /// Factor turning the scaled map into D⁻¹ G: D^{-1/2} (Jacobi) or D⁻¹.
-    pub gs: Vec<f64>,
+    /// Factor turning the scaled map into D⁻¹ G without Jacobi scaling: D⁻¹ (see [`Self::gs`]).
+    gs: Vec<f64>,
+    /// The Jacobi scaling is on.
+    jacobi: bool,
     /// q̂ = sc q.
     pub qs: Vec<f64>,
     /// D (guarded as above), for the gap part of the residual.
@@ -35,19 +37,32 @@ impl Scaling {
     /// Sizes the vectors for n rows without clearing them: `set_factors` then sets every row's
     /// sd, sc, gs and dd, and `scale_q` every row's qs, so clearing them was a wasted pass over
     /// five row vectors per solve.
-    fn resize(&mut self, n: usize) {
-        for v in [&mut self.sd, &mut self.sc, &mut self.gs, &mut self.qs, &mut self.dd] {
+    fn resize(&mut self, n: usize, jacobi: bool) {
+        for v in [&mut self.sd, &mut self.sc, &mut self.qs, &mut self.dd] {
             v.resize(n, 0.0);
         }
+        self.jacobi = jacobi;
+        self.gs.resize(if jacobi { 0 } else { n }, 0.0);
         self.rowptr.clear();
         self.cols.clear();
         self.vals.clear();
         self.zero_rows.clear();
     }
 
+    /// Factor turning the scaled map into D⁻¹ G: D^{-1/2} = `sc` with Jacobi scaling, else D⁻¹.
+    /// With Jacobi the sweeps read `sc` for both, one stream of memory instead of two (0.48 MB
+    /// a pass on the 10,000-disk pile's 60,000 rows).
+    pub fn gs(&self) -> &[f64] {
+        if self.jacobi { &self.sc } else { &self.gs }
+    }
+
     /// Scaling factors of row i from its diagonal entry d (guarded here).
-    fn set_factors(&mut self, i: usize, d: f64, jacobi: bool) {
-        (self.sd[i], self.sc[i], self.gs[i], self.dd[i]) = factors(d, jacobi);
+    fn set_factors(&mut self, i: usize, d: f64) {
+        let (sd, sc, gs, dd) = factors(d, self.jacobi);
+        (self.sd[i], self.sc[i], self.dd[i]) = (sd, sc, dd);
+        if !self.jacobi {
+            self.gs[i] = gs;
+        }
     }
 
     /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column
@@ -57,7 +72,7 @@ impl Scaling {
         if n > u32::MAX as usize {
             return None;
         }
-        self.resize(n);
+        self.resize(n, jacobi);
         let indptr = w.proper_indptr();
         let (indices, data) = (w.indices(), w.data());
         self.rowptr.extend_from_slice(&indptr);
@@ -75,7 +90,7 @@ impl Scaling {
             if all_zero {
                 self.zero_rows.push(i);
             }
-            self.set_factors(i, d, jacobi);
+            self.set_factors(i, d);
         }
         let mut max_diag: f64 = 0.0;
         self.cols.reserve(indptr[n]);
@@ -102,18 +117,22 @@ impl Scaling {
     /// Returns max_j Ŵ_jj.
     pub fn setup_operator(&mut self, w: &dyn Operator, jacobi: bool, diag: &mut Vec<f64>) -> f64 {
         let n = w.dim();
-        self.resize(n);
+        self.resize(n, jacobi);
         diag.clear();
         diag.resize(n, 0.0);
         w.diagonal(diag);
         let mut max_diag: f64 = 0.0;
         // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
-        let (sd, sc, gs, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.gs[..n], &mut self.dd[..n]);
+        let (sd, sc, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.dd[..n]);
         for (i, &d) in diag[..n].iter().enumerate() {
             if d == 0.0 {
                 self.zero_rows.push(i);
             }
-            (sd[i], sc[i], gs[i], dd[i]) = factors(d, jacobi);
+            let gs;
+            (sd[i], sc[i], gs, dd[i]) = factors(d, jacobi);
+            if !jacobi {
+                self.gs[i] = gs;
+            }
             max_diag = larger(sc[i] * d * sc[i], max_diag);
         }
         max_diag
@@ -124,7 +143,8 @@ impl Scaling {
         let mut dq: f64 = 0.0;
         // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
         let n = q.len();
-        let (qs, sc, gs) = (&mut self.qs[..n], &self.sc[..n], &self.gs[..n]);
+        let gs = if self.jacobi { &self.sc[..n] } else { &self.gs[..n] };
+        let (qs, sc) = (&mut self.qs[..n], &self.sc[..n]);
         for i in 0..n {
             qs[i] = sc[i] * q[i];
             dq = larger((gs[i] * qs[i]).abs(), dq);

@@ -4,22 +4,23 @@ use super::World;
 use super::rows::Linearization;
 use crate::contact::broad::PairCache;
 use crate::contact::law::Law;
-use crate::contact::set::{ContactMemory, Memory, joint_partners};
-use crate::contact::{ContactGeom, ContactKind, detect, detect_in, label_mesh_kind};
+use crate::contact::set::{ContactMemory, InterfaceTable, Memory, joint_partners};
+use crate::contact::{ContactGeom, ContactKind, detect, detect_in_order, label_mesh_kind};
+use crate::model::Interface;
 
-/// A detected contact: geometry, law and what it remembers from the last step. Immutable
-/// once detected; the solve stages linearize it (see `rows.rs`).
+/// A detected contact's geometry. Immutable once detected; the solve stages linearize it (see
+/// `rows.rs`). Its law is [`Inputs::laws`]' entry of the same index, and what it remembers from
+/// the last step went into the warm start and its [`Brief`]: on the 10,000-disk pile each byte
+/// here is written 30,000 times a step (law and memory in it made it 216 bytes, not 120).
 pub(super) struct Contact {
     pub geom: ContactGeom,
-    pub law: Law,
-    pub memory: Option<Memory>,
     /// g0 as the solver sees it ([`solver_gap`]): a gap or penetration within the allowance
     /// counts as touching; beyond it, a persistent contact's by its excess (math note §10.2).
     pub start_gap: f64,
 }
 
 /// What the solve stages read of a contact on each of their passes (rows, classification,
-/// refinement, velocity gaps), in 24 bytes against a [`Contact`]'s 216: on the 10,000-disk pile
+/// refinement, velocity gaps), in 24 bytes against a [`Contact`]'s 120: on the 10,000-disk pile
 /// the contacts no longer fit the caches, and each pass over them cost 0.3–0.6 ms of a warm step.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Brief {
@@ -37,14 +38,14 @@ pub(super) struct Brief {
 
 impl Brief {
     /// (u32 indices, as B's segments: `jacobian.rs`.)
-    fn of(c: &Contact) -> Brief {
+    fn of(c: &Contact, law: &Law, memory: Option<Memory>) -> Brief {
         Brief {
             a: c.geom.a as u32,
             b: c.geom.b as u32,
-            row: c.law.row as u32,
-            rows: c.law.rows() as u8,
-            bonded: c.law.bonded,
-            was_closed: c.memory.is_some_and(|m| m.closed),
+            row: law.row as u32,
+            rows: law.rows() as u8,
+            bonded: law.bonded,
+            was_closed: memory.is_some_and(|m| m.closed),
             start_gap: c.start_gap,
         }
     }
@@ -106,48 +107,59 @@ impl World {
     /// it (math note §5: d0 >= 2 u_max; 2.5 as in Shi's DDA), with their laws and VI row
     /// layout; what the solve starts from; and the threshold used.
     pub(super) fn detect(&self, df: &[f64], cache: &mut PairCache) -> (Detected, Inputs, f64) {
-        let u_max = (0..self.bodies.len())
-            .map(|b| self.bodies[b].max_motion(&df[self.dofs.range(b)]))
-            .fold(0.0, f64::max);
+        // one pass over the bodies (336 bytes apiece) for all detection reads of them besides
+        // their shapes: the law of each contact reads its two bodies' materials, which through
+        // the bodies took 0.3 of detection's loop in perf's samples on the 10,000-disk pile
+        let n = self.bodies.len();
+        let (mut materials, mut fixed, mut meshes) =
+            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let mut u_max = 0.0f64;
+        for (b, body) in self.bodies.iter().enumerate() {
+            u_max = u_max.max(body.max_motion(&df[self.dofs.range(b)]));
+            materials.push(body.material);
+            fixed.push(body.fixed);
+            meshes.push(body.mesh.is_some());
+        }
         let threshold = self.threshold.max(2.5 * u_max);
         let shapes = self.shapes();
-        let pairs = cache.candidate_pairs(&shapes, &self.fixed(), threshold);
-        let geoms = detect_in(&shapes, pairs, threshold, self.threshold);
-        let meshes: Vec<bool> = self.bodies.iter().map(|b| b.mesh.is_some()).collect();
+        let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        let (geoms, order) = detect_in_order(&shapes, pairs, threshold, self.threshold);
         let any_mesh = meshes.contains(&true);
-        // one pass over the detected contacts, which makes all the solve reads of them (each
-        // pass over their 216 bytes apiece cost 0.3–0.6 ms of a warm step of the 10,000-disk
-        // pile); joint partners after it, if any
+        let interfaces = InterfaceTable::new(&self.model.interfaces, self.model.materials.len());
+        // one pass over the detected contacts, in key order, which makes all the solve reads of
+        // them (each pass over them, 216 bytes apiece as they were then, cost 0.3–0.6 ms of a
+        // warm step of the 10,000-disk pile); joint partners after it, if any
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
-        let n = geoms.len();
+        let n = order.len();
         let mut found = Detected { contacts: Vec::with_capacity(n), brief: Vec::with_capacity(n) };
         let (mut warm, mut laws, mut lin) =
             (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n));
-        for mut geom in geoms {
+        for k in order {
+            let mut geom = geoms[k].clone();
             if any_mesh {
                 label_mesh_kind(&mut geom, &meshes);
             }
             joints |= geom.joint.is_some();
             let memory = memory.get(&geom.key);
-            let law = self.law(&geom, memory, row);
+            let law = self.law(&geom, interfaces.get(materials[geom.a], materials[geom.b]), memory, row);
             row += law.rows();
             let start_gap = solver_gap(geom.g0, self.allowance, memory.is_some());
-            let c = Contact { geom, law, memory, start_gap };
+            let c = Contact { geom, start_gap };
             let force = memory.map_or([0.0; 3], |m| m.force);
             warm.extend([force[0], force[1]]);
             if law.rows() == 3 {
                 warm.push(force[2]);
             }
-            laws.push(law);
             lin.push(Linearization::initial(&c));
-            found.brief.push(Brief::of(&c));
+            found.brief.push(Brief::of(&c, &law, memory));
+            laws.push(law);
             found.contacts.push(c);
         }
         if joints {
             let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
-            for ((c, l), p) in found.contacts.iter_mut().zip(&mut laws).zip(partners) {
-                (c.law.partner, l.partner) = (p, p);
+            for (l, p) in laws.iter_mut().zip(partners) {
+                l.partner = p;
             }
         }
         (found, Inputs { warm, laws, lin }, threshold)
@@ -156,8 +168,7 @@ impl World {
     /// The law of one contact: interface of the two materials, capacities over the joint's
     /// length, rolling rows for particle contacts only (math note §4.4); its joint partner is
     /// set once all contacts are known.
-    fn law(&self, g: &ContactGeom, memory: Option<Memory>, row: usize) -> Law {
-        let i = self.interface(g.a, g.b);
+    fn law(&self, g: &ContactGeom, i: &Interface, memory: Option<Memory>, row: usize) -> Law {
         let particle = matches!(g.kind, ContactKind::PP | ContactKind::PB | ContactKind::PL);
         let intact = !self.broken.contains(&g.key);
         Law {
