@@ -343,8 +343,6 @@ pub struct Solver {
     /// proportioning test (`mprgp::StepLength`).
     step_length: Option<f64>,
     nsgs: nsgs::Work,
-    /// The caller's warm start, kept for the MPRGP guard.
-    warm: Vec<f64>,
     scaling: scaling::Scaling,
     vectors: pc::Vectors,
 }
@@ -366,7 +364,6 @@ impl Solver {
             exact: false,
             step_length: None,
             nsgs: nsgs::Work::default(),
-            warm: Vec::new(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
         }
@@ -464,8 +461,6 @@ impl Solver {
     /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
     /// would report the same), PC from the caller's warm start with what is left (math note §4.8).
     fn solve_mprgp(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
-        self.warm.clear();
-        self.warm.extend_from_slice(z);
         let r = self.solve_pc(p, rule, z, opts, true);
         let left = opts.max_iterations.saturating_sub(r.inner_iterations);
         let hopeless =
@@ -474,7 +469,8 @@ impl Solver {
             return r;
         }
         let products = self.stats.products;
-        z.copy_from_slice(&self.warm);
+        // the caller's warm start, which the run kept (it reaches here only past its setup)
+        z.copy_from_slice(&self.vectors.z0);
         let mut r2 = self.solve_pc(p, rule, z, &Options { max_iterations: left, ..*opts }, false);
         r2.inner_iterations += r.inner_iterations;
         r2.outer_iterations += r.outer_iterations;

@@ -107,7 +107,9 @@ fn mprgp_reports_rays_and_nan() {
 /// steps solve it (z to 5e-6: residual 1e-12 times cond W = 1999 times |z| = 500).
 /// (b) Pass limit: the sliding case of `coulomb_stick_and_slide` needs at least 3 passes; with
 /// max_outer = 1 MPRGP stops after its one pass with budget left, PC takes over from the warm
-/// start and stops after its one pass too: OuterLimit, one hand-over, 2 passes in all.
+/// start and stops after its one pass too: OuterLimit, one hand-over, 2 passes in all. From the
+/// warm start (0.5, 0.1) the hand-over's answer is, bit for bit, that of PC alone from the same
+/// warm start (its one pass does not use up the budget either way), not PC's from MPRGP's iterate.
 #[test]
 fn mprgp_guard() {
     let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
@@ -132,6 +134,12 @@ fn mprgp_guard() {
     let st = ws.stats();
     assert!(!rep.converged && st.status == Status::OuterLimit && st.fallbacks == 1, "{rep:?} {st:?}");
     assert_eq!(rep.outer_iterations, 2);
+    let p = Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+    let (mut z, mut z_pc) = (vec![0.5, 0.1], vec![0.5, 0.1]);
+    assert_eq!(ws.solve(&p, &Friction(0.5), &mut z, &o).outer_iterations, 2);
+    let pc = Solver::new().with_method(Method::Pc).solve(&p, &Friction(0.5), &mut z_pc, &o);
+    assert_eq!(pc.outer_iterations, 1);
+    assert_eq!(z, z_pc);
 }
 
 /// Face solves (math note §4.10) on the 1-D Laplacian W = tridiag(−1, 2, −1) of order 400 with
