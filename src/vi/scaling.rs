@@ -118,9 +118,9 @@ impl Scaling {
     pub fn setup_operator(&mut self, w: &dyn Operator, jacobi: bool, diag: &mut Vec<f64>) -> f64 {
         let n = w.dim();
         self.resize(n, jacobi);
-        diag.clear();
+        // (not cleared first: `Operator::diagonal` overwrites every entry)
         diag.resize(n, 0.0);
-        w.diagonal(diag);
+        w.diagonal(&mut diag[..n]);
         let mut max_diag: f64 = 0.0;
         // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
         let (sd, sc, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.dd[..n]);
