@@ -141,9 +141,9 @@ impl World {
         let deep = -0.05 * self.threshold;
         let records = contacts
             .iter()
+            .zip(&s.laws)
             .enumerate()
-            .map(|(k, c)| {
-                let law = &s.laws[k];
+            .map(|(k, (c, law))| {
                 let r = law.row;
                 let (pn, pt) = (s.z2[r], s.z2[r + 1]);
                 let state = if law.bonded {
