@@ -146,14 +146,14 @@ impl Flexibility {
                 .collect();
         }
         self.formed.resize(map.clusters(), None);
-        // after the first refresh, the clusters whose K̃ changes: those deforming and those a
-        // coupling acts in (connector blocks follow the anchors), each once, in cluster order
         // the blocks coupling a body to itself (a connector to a fixed body), by body and then in
         // coupling order: a single body's are found by two binary searches, not by a scan of
         // every coupling per body (O(bodies × couplings) on the first refresh)
         let mut own: Vec<(usize, usize)> =
             couplings.iter().enumerate().filter(|(_, cp)| cp.a == cp.b).map(|(i, cp)| (cp.a, i)).collect();
         own.sort_unstable();
+        // after the first refresh, the clusters whose K̃ changes: those deforming and those a
+        // coupling acts in (connector blocks follow the anchors), each once, in cluster order
         let changing: Vec<usize> = if first {
             (0..map.clusters()).collect()
         } else {

@@ -26,7 +26,7 @@ const NONE: u32 = u32::MAX;
 /// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, which stay
 /// in one core's cache and take some 50 µs a product; the 10,000-disk pile about 120,000, whose
 /// 5 MB do not (`benches/vi.rs`, group `body_form_product`: 517 µs on one thread, 273 on two).
-pub(super) const HALVES_FROM: usize = 40_000;
+const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
 /// from the factors once and kept across steps while the factors and DOF ranges stay the same
@@ -265,7 +265,8 @@ impl BodyPart {
     /// out += W_bodies z.
     pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
         let all = jac.segments();
-        if self.count == all.len() && self.split > 0 && all.len() >= HALVES_FROM {
+        if self.count == all.len() && self.split > 0 {
+            // (a split is found only from HALVES_FROM segments on)
             self.halves(jac, z, out);
         } else if self.count == all.len() {
             // a scene of single bodies: no filter, which would cost each product a load per

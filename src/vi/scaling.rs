@@ -22,7 +22,8 @@ pub(super) struct Scaling {
     pub sd: Vec<f64>,
     /// D^{-1/2} (Jacobi) or 1: z = sc y.
     pub sc: Vec<f64>,
-    /// Factor turning the scaled map into D⁻¹ G without Jacobi scaling: D⁻¹ (see [`Self::gs`]).
+    /// Factor turning the scaled map into D⁻¹ G without Jacobi scaling: D⁻¹ = 1/`dd` (see
+    /// [`Self::gs`]); empty with it.
     gs: Vec<f64>,
     /// The Jacobi scaling is on.
     jacobi: bool,
@@ -35,14 +36,13 @@ pub(super) struct Scaling {
 
 impl Scaling {
     /// Sizes the vectors for n rows without clearing them: `set_factors` then sets every row's
-    /// sd, sc, gs and dd, and `scale_q` every row's qs, so clearing them was a wasted pass over
-    /// five row vectors per solve.
+    /// sd, sc and dd, and `scale_q` every row's qs, so clearing them was a wasted pass over
+    /// four row vectors per solve.
     fn resize(&mut self, n: usize, jacobi: bool) {
         for v in [&mut self.sd, &mut self.sc, &mut self.qs, &mut self.dd] {
             v.resize(n, 0.0);
         }
         self.jacobi = jacobi;
-        self.gs.resize(if jacobi { 0 } else { n }, 0.0);
         self.rowptr.clear();
         self.cols.clear();
         self.vals.clear();
@@ -58,10 +58,15 @@ impl Scaling {
 
     /// Scaling factors of row i from its diagonal entry d (guarded here).
     fn set_factors(&mut self, i: usize, d: f64) {
-        let (sd, sc, gs, dd) = factors(d, self.jacobi);
-        (self.sd[i], self.sc[i], self.dd[i]) = (sd, sc, dd);
+        (self.sd[i], self.sc[i], self.dd[i]) = factors(d, self.jacobi);
+    }
+
+    /// D⁻¹ from the guarded diagonal, once every row's factors are set; nothing with Jacobi
+    /// scaling (`gs()` is `sc`).
+    fn set_gs(&mut self) {
+        self.gs.clear();
         if !self.jacobi {
-            self.gs[i] = gs;
+            self.gs.extend(self.dd.iter().map(|d| 1.0 / d));
         }
     }
 
@@ -92,6 +97,7 @@ impl Scaling {
             }
             self.set_factors(i, d);
         }
+        self.set_gs();
         let mut max_diag: f64 = 0.0;
         self.cols.reserve(indptr[n]);
         self.vals.reserve(indptr[n]);
@@ -128,13 +134,10 @@ impl Scaling {
             if d == 0.0 {
                 self.zero_rows.push(i);
             }
-            let gs;
-            (sd[i], sc[i], gs, dd[i]) = factors(d, jacobi);
-            if !jacobi {
-                self.gs[i] = gs;
-            }
+            (sd[i], sc[i], dd[i]) = factors(d, jacobi);
             max_diag = larger(sc[i] * d * sc[i], max_diag);
         }
+        self.set_gs();
         max_diag
     }
 
@@ -153,13 +156,13 @@ impl Scaling {
     }
 }
 
-/// A row's scaling factors (sd, sc, gs, dd) from its diagonal entry d, guarded: d <= 0 or not
+/// A row's scaling factors (sd, sc, dd) from its diagonal entry d, guarded: d <= 0 or not
 /// finite counts as 1 (module docs of `vi`, "Zero diagonals").
 #[inline(always)]
-fn factors(d: f64, jacobi: bool) -> (f64, f64, f64, f64) {
+fn factors(d: f64, jacobi: bool) -> (f64, f64, f64) {
     let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
     let (sd, sc) = if jacobi { (d.sqrt(), 1.0 / d.sqrt()) } else { (1.0, 1.0) };
-    (sd, sc, if jacobi { sc } else { 1.0 / d }, d)
+    (sd, sc, d)
 }
 
 /// Ŵ as the sweeps see it: `prepare(x, out, tmp)` before a sweep, then `row(i, x, out[i])`

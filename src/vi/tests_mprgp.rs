@@ -277,7 +277,6 @@ fn on_both_paths(test: impl Fn(bool, &dyn Operator)) {
 #[test]
 fn residual_again_is_the_next_solves_first_measure() {
     on_both_paths(|jacobi, w| {
-        let label = |delta: f64| format!("jacobi {jacobi} delta {delta}");
         for delta in [1e-9, 1e-3] {
             let mut ws = mprgp();
             let (q1, q2) = ([-2.0, -0.2], [-2.0, -0.2 + delta]);
@@ -288,7 +287,7 @@ fn residual_again_is_the_next_solves_first_measure() {
             let again = ws.residual_again(&q2, &z, &o).expect("a converged MPRGP solve ends with a sweep");
             let p2 = Problem { w, q: &q2, blocks: &[0, 2] };
             let first = ws.solve(&p2, &Friction(0.5), &mut z.clone(), &Options { max_iterations: 0, ..o });
-            let l = format!("{}: {again:e} vs {first:?}", label(delta));
+            let l = format!("jacobi {jacobi} delta {delta}: {again:e} vs {first:?}");
             assert!((again - first.residual).abs() <= 1e-14 * first.residual.max(1e-300), "{l}");
             assert_eq!(again <= o.tolerance, first.converged, "{l}");
             assert_eq!(again <= o.tolerance, delta < 1e-6, "{l}");

@@ -110,9 +110,9 @@ impl World {
         // one pass over the bodies (336 bytes apiece) for all detection reads of them besides
         // their shapes: the law of each contact reads its two bodies' materials, which through
         // the bodies took 0.3 of detection's loop in perf's samples on the 10,000-disk pile
-        let n = self.bodies.len();
+        let bodies = self.bodies.len();
         let (mut materials, mut fixed, mut meshes) =
-            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+            (Vec::with_capacity(bodies), Vec::with_capacity(bodies), Vec::with_capacity(bodies));
         let mut u_max = 0.0f64;
         for (b, body) in self.bodies.iter().enumerate() {
             u_max = u_max.max(body.max_motion(&df[self.dofs.range(b)]));
