@@ -1,17 +1,17 @@
 //! The contact solver alone (`pbdda::vi`) on 2-D contact networks (rigid disks on a grid,
 //! `grid_network`, about 14 nonzeros per row of W): whole solves with both correction steps
-//! (math note §4.2), cold and warm started, and the cost per W-product, serial and on rayon,
-//! for the explicit CSR path and the matrix-free operator path.
+//! (math note §4.2), cold and warm started, and the cost per W-product, serial and on both
+//! cores, for the explicit CSR path and the matrix-free operator path.
 //!
 //! Conclusions drawn from these runs are stated in words in the rustdoc of `pbdda::vi`
-//! (the extragradient step needed fewer products on every set measured; rayon gave no
-//! measurable gain on a shared 2-core machine). The W-product counts of each solve are
-//! printed once per configuration.
+//! (the extragradient step needed fewer products on every set measured). The W-product counts
+//! of each solve are printed once per configuration.
 //!
 //! Group `body_form_product`: the body form's W z (math note §3.3) on a triangular lattice of
 //! 100 × 100 rigid disks (10,000 bodies, 59,202 rows, 118,404 segments, like the 10,000-disk
-//! pile), on rayon pools of one and two threads: above `HALVES_FROM` (`delassus/bodies.rs`) segments the
-//! product runs in two halves (`BodyPart::halves`), the same bits on either pool.
+//! pile), on one thread and on two (the calling thread and one micropool worker): above
+//! `HALVES_FROM` (`delassus/bodies.rs`) segments the product runs in two halves
+//! (`BodyPart::halves`), the same bits either way.
 //!
 //! Run: `cargo bench --bench vi` (sample size 10; about two minutes on an idle machine).
 
@@ -80,7 +80,7 @@ fn solves(c: &mut Criterion) {
 }
 
 /// Cost of 100 PC iterations (about 200 W-products) on the frictionless grids of 9 900 and
-/// 39 800 rows: CSR serial, CSR on rayon, and the matrix-free path (serial).
+/// 39 800 rows: CSR serial, CSR on both cores, and the matrix-free path (serial).
 fn products(c: &mut Criterion) {
     let mut group = c.benchmark_group("vi_products");
     group.sample_size(10).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(5));
@@ -90,7 +90,7 @@ fn products(c: &mut Criterion) {
         let m = q.len();
         let cold = vec![0.0; m];
         eprintln!("grid {nx}x{ny}: {m} rows, {} nnz", w.nnz());
-        for (label, par) in [("csr_serial", usize::MAX), ("csr_rayon", 0)] {
+        for (label, par) in [("csr_serial", usize::MAX), ("csr_two_cores", 0)] {
             let mut s = Solver::new().with_parallel_min_rows(par);
             group.bench_function(format!("{m}_rows_{label}"), |b| {
                 b.iter(|| solve(&mut s, &w, &q, &frictionless(m), &cold, &o))
@@ -173,7 +173,7 @@ fn body_form(c: &mut Criterion) {
     let (op, z) = lattice(100);
     let mut out = vec![0.0; z.len()];
     for threads in [1, 2] {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+        let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
         group.bench_function(format!("10000_disks_{threads}_threads"), |b| {
             b.iter(|| pool.install(|| op.apply(black_box(&z), &mut out)))
         });

@@ -1,10 +1,13 @@
 //! Determinism (Box2D practice): a fixed scene stepped N times must end in bit-identical states,
-//! run after run and whatever the size of the rayon pool.
+//! run after run and whatever the number of threads.
 //!
 //! Criterion: a hash of the whole state after the run (every body's centroid, rotation, outline
 //! vertices, strain, stress and velocity, and every contact force and gap of the last step, each
 //! as `f64::to_bits`, in body and contact order; FNV-1a 64) is identical for two runs in one
-//! process on a 1-thread pool and for a run on a 2-thread pool (the big scene: one run on each). The tolerance is zero by construction:
+//! process on one thread and for a run on two (the big scene: one run on each). "n threads": the
+//! stepping thread with n − 1 micropool workers (the VI's sweeps and the body form's product,
+//! `src/vi/par.rs`) inside a rayon pool of n threads (the sparse factors' column batches).
+//! The tolerance is zero by construction:
 //! the VI reduces its parallel partial sums in block order, so serial and parallel sweeps give
 //! the same bits (src/vi.rs), and nothing else may depend on scheduling or on addresses (hash
 //! map iteration order, for instance).
@@ -14,7 +17,7 @@
 //!   friction (impacts, sliding, sticking, strain), 200 steps;
 //! - `big_pile`: a hexagonal pile of 64 x 60 disks (every seventh deformable) with three blocks
 //!   on top, 2 steps. It is big enough (at least 20 000 VI rows, checked below) for the VI to
-//!   run its sweeps on the rayon pool: `vi::Workspace::parallel_min_rows` defaults to 20 000.
+//!   run its sweeps on both cores: `vi::Solver::parallel_min_rows` defaults to 20 000.
 //!   Its solver is capped at 40 PC iterations per VI solve so that the test stays fast; a step
 //!   that stops at the cap is as deterministic as a converged one. Even so a step of this pile
 //!   costs about 0.6 s of CPU (detection, W, refinement; measured on the shared test machine),
@@ -106,25 +109,28 @@ fn big_pile() -> Model {
         rectangle(&mut s, &format!("b{i}"), x, top + 0.05, x + 3.0, top + 1.05, "material = \"rock\"");
     }
     let mut model = pbdda::scene::parse(&s, "big_pile.toml").unwrap_or_else(|e| panic!("{e}"));
-    // 40 iterations per step keep the test short while every sweep runs on the rayon pool; the
+    // 40 iterations per step keep the test short while every sweep runs on both threads; the
     // steps do not converge in that budget, which is what this test accepts: it checks that
     // the same work gives the same bits, not the physics (math note §10.8 would split them)
     (model.time.adaptive, model.solver.allow_unconverged) = (false, true);
     model
 }
 
-/// Runs `steps` steps on a rayon pool of `threads` threads; returns the state hash and the
-/// last record.
+/// Runs `steps` steps on `threads` threads (see the module docs); returns the state hash and
+/// the last record.
 fn run(model: &Model, steps: usize, threads: usize) -> (u64, StepRecord) {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap_or_else(|e| panic!("{e}"));
+    let workers = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
     pool.install(|| {
-        let mut world = World::new(model.clone());
-        let mut last = None;
-        for _ in 0..steps {
-            last = Some(world.step().unwrap_or_else(|e| panic!("{e}")));
-        }
-        let last = last.unwrap_or_else(|| panic!("no step"));
-        (state_hash(&world, &last), last)
+        workers.install(|| {
+            let mut world = World::new(model.clone());
+            let mut last = None;
+            for _ in 0..steps {
+                last = Some(world.step().unwrap_or_else(|e| panic!("{e}")));
+            }
+            let last = last.unwrap_or_else(|| panic!("no step"));
+            (state_hash(&world, &last), last)
+        })
     })
 }
 
@@ -132,7 +138,7 @@ fn vi_rows(rec: &StepRecord) -> usize {
     rec.contacts.iter().map(|c| 2 + usize::from(c.rolling_moment.is_some())).sum()
 }
 
-/// Runs the scene once per entry of `threads` (the rayon pool size) and asserts that every
+/// Runs the scene once per entry of `threads` (see [`run`]) and asserts that every
 /// run ends in the same state; returns the last record of the first run.
 fn check(name: &str, model: Model, steps: usize, threads: &[usize]) -> StepRecord {
     let (h0, rec) = run(&model, steps, threads[0]);

@@ -336,18 +336,18 @@ impl BodyPart {
             u.fill(0.0);
             scatter(jac, segs, z, u);
         };
-        rayon::join(|| sum(first, u1), || sum(second, u2));
+        micropool::join(|| sum(first, u1), || sum(second, u2));
         let (u1, u2) = (&*u1, &*u2);
         let half = start.len() / 2;
         let at = start.get(half).copied().unwrap_or(n);
         let (v1, v2) = v.split_at_mut(at);
-        rayon::join(
+        micropool::join(
             || self.solve_sums(0..half, u1, u2, v1, 0),
             || self.solve_sums(half..start.len(), u1, u2, v2, at),
         );
         let (v, row) = (&*v, second[0].row());
         let (o1, o2) = out.split_at_mut(row);
-        rayon::join(|| gather(jac, first, v, o1, 0), || gather(jac, second, v, o2, row));
+        micropool::join(|| gather(jac, first, v, o1, 0), || gather(jac, second, v, o2, row));
     }
 
     /// v[start_b - offset..] = K̃_b⁻¹ (u1 + u2)[start_b..] for the bodies b of `bodies`.

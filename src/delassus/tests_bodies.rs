@@ -11,8 +11,8 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 /// 5,250's first, segment 21,000 (20,998 and 20,999 are contact 5,249's rows on its second
 /// body). With contact 0 pushed last, rows 0 and 1 come after every cut: no split, and the
 /// serial product runs. Both products equal the assembled W's to 1e-12 of the largest
-/// |W z| (the same terms summed in another order), and give the same bits on rayon pools
-/// of one thread and of two (the determinism contract).
+/// |W z| (the same terms summed in another order), and give the same bits on one thread and
+/// on two (the calling thread with one micropool worker: the determinism contract).
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
@@ -49,7 +49,7 @@ fn products_split_only_where_no_row_straddles() {
         assert_eq!(part.split, split);
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
         let on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("pool");
+            let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
             let mut out = vec![0.0; jac.rows];
             pool.install(|| part.apply(&jac, &z, &mut out));
             out

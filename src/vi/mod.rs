@@ -73,12 +73,14 @@
 //!   `operator_path_matches_csr`), and `benches/vi.rs` (group `vi_products`) times both.
 //! * [`Solver`] keeps its work storage across calls: it allocates only when a problem is
 //!   larger than every previous one, never inside the iterations.
-//! * Rows are processed in blocks of 2 048 (`par.rs`); blocks run on rayon from
-//!   [`Solver::parallel_min_rows`] rows (default 20 000). Block partial sums are reduced in
-//!   block order, so serial and parallel results are bit-identical. On a shared 2-core
-//!   machine rayon gave no measurable gain on these sweeps (`benches/vi.rs`, group
-//!   `vi_products`). The body form's product over a scene of single bodies does run on both
-//!   cores from 40,000 segments on (`delassus/bodies.rs`, `HALVES_FROM`, `BodyPart::halves`).
+//! * Rows are processed in blocks of 2 048 (`par.rs`); from [`Solver::parallel_min_rows`]
+//!   rows on (default 20 000) the blocks run in two halves, one per core (`micropool::join`).
+//!   Block partial sums are reduced in block order, so serial and parallel results are
+//!   bit-identical. The body form's product over a scene of single bodies runs in halves from
+//!   40,000 segments on (`delassus/bodies.rs`, `HALVES_FROM`, `BodyPart::halves`). Until
+//!   2026-11-27 both ran on rayon, whose `join` from the stepping thread cost 26–119 µs a call
+//!   on the 2-core machines here: the 10,000-disk pile's warm step was faster with no second
+//!   core at all (math note §3.3, "Both cores at a join's true cost").
 //!
 //! # Failure modes (never a panic)
 //!
@@ -321,7 +323,7 @@ pub struct Stats {
 pub struct Solver {
     /// Correction step of the PC method (default: extragradient).
     pub correction: Correction,
-    /// Sweeps run on the rayon pool from this many rows on (default 20 000); `usize::MAX`
+    /// Sweeps run on both cores from this many rows on (default 20 000); `usize::MAX`
     /// keeps everything on the calling thread. Results do not depend on this setting.
     pub parallel_min_rows: usize,
     /// Inner accuracy of the outer passes after the first (default 0.1): pass m >= 1 stops

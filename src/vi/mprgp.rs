@@ -15,8 +15,8 @@
 //!
 //! Vector use (`Vectors`): `y` the iterate, `wy` = Ŵy (kept up to date by the step updates
 //! and recomputed by a full product every [`REFRESH`] iterations and after each expansion),
-//! `yt` the search direction p, `wyt` = Ŵp. Serial: the passes are cheap vector work next to
-//! the product, and rayon gave no gain on the 2-core machines measured (module docs of `vi`).
+//! `yt` the search direction p, `wyt` = Ŵp. The step's own passes are serial: cheap vector
+//! work next to the product and the sweeps, which run on both cores (module docs of `vi`).
 
 // NaN-safe `!(a <= b)` tests.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]

@@ -1,8 +1,13 @@
-//! Blocked sweeps over the rows, serial or on rayon, with deterministic reductions: every
+//! Blocked sweeps over the rows, serial or on both cores, with deterministic reductions: every
 //! block stores its partial results and [`reduce`] combines them in block order, so serial
 //! and parallel runs give bit-identical results.
-
-use rayon::prelude::*;
+//!
+//! In parallel the blocks are cut into two halves at a block boundary, one per core, through
+//! `micropool::join` (math note §3.3, "Both cores at a join's true cost"). rayon's `join`,
+//! called from the stepping thread (outside its pool), cost 26–119 µs a call on these 2-core
+//! virtual machines, against 1.6–5 µs for micropool's, whose calling thread runs one half
+//! itself; with rayon the 10,000-disk pile's warm step was slower than with no second core at
+//! all.
 
 /// Rows per block of every sweep.
 pub(super) const BLOCK: usize = 2048;
@@ -35,15 +40,18 @@ pub(super) fn run1<F>(par: bool, out: &mut [f64], parts: &mut [Partial], f: F) -
 where
     F: Fn(usize, &mut [f64]) -> Partial + Sync,
 {
-    if par {
-        out.par_chunks_mut(BLOCK)
-            .zip(parts.par_iter_mut())
-            .enumerate()
-            .for_each(|(b, (o, p))| *p = f(b * BLOCK, o));
-    } else {
+    let blocks = |r0: usize, out: &mut [f64], parts: &mut [Partial]| {
         for (b, (o, p)) in out.chunks_mut(BLOCK).zip(parts.iter_mut()).enumerate() {
-            *p = f(b * BLOCK, o);
+            *p = f(r0 + b * BLOCK, o);
         }
+    };
+    if par {
+        let half = parts.len() / 2;
+        let (o1, o2) = out.split_at_mut(half * BLOCK);
+        let (p1, p2) = parts.split_at_mut(half);
+        micropool::join(|| blocks(0, o1, p1), || blocks(half * BLOCK, o2, p2));
+    } else {
+        blocks(0, out, parts);
     }
     reduce(parts)
 }
@@ -53,18 +61,21 @@ pub(super) fn run2<F>(par: bool, o1: &mut [f64], o2: &mut [f64], parts: &mut [Pa
 where
     F: Fn(usize, &mut [f64], &mut [f64]) -> Partial + Sync,
 {
-    if par {
-        o1.par_chunks_mut(BLOCK)
-            .zip(o2.par_chunks_mut(BLOCK))
-            .zip(parts.par_iter_mut())
-            .enumerate()
-            .for_each(|(b, ((a, c), p))| *p = f(b * BLOCK, a, c));
-    } else {
+    let blocks = |r0: usize, o1: &mut [f64], o2: &mut [f64], parts: &mut [Partial]| {
         for (b, ((a, c), p)) in
             o1.chunks_mut(BLOCK).zip(o2.chunks_mut(BLOCK)).zip(parts.iter_mut()).enumerate()
         {
-            *p = f(b * BLOCK, a, c);
+            *p = f(r0 + b * BLOCK, a, c);
         }
+    };
+    if par {
+        let half = parts.len() / 2;
+        let (a1, a2) = o1.split_at_mut(half * BLOCK);
+        let (c1, c2) = o2.split_at_mut(half * BLOCK);
+        let (p1, p2) = parts.split_at_mut(half);
+        micropool::join(|| blocks(0, a1, c1, p1), || blocks(half * BLOCK, a2, c2, p2));
+    } else {
+        blocks(0, o1, o2, parts);
     }
     reduce(parts)
 }

@@ -17,7 +17,7 @@ const BETA_RANGE: f64 = 1e30;
 /// Read-only inputs of one call: the scaled W, the scaling vectors and the settings.
 pub(super) struct Ctx<'a, R: Rows> {
     pub rows: R,
-    /// Sweeps run on rayon.
+    /// Sweeps run on both cores (`par.rs`).
     pub par: bool,
     pub correction: Correction,
     pub sd: &'a [f64],
