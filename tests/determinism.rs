@@ -9,7 +9,7 @@
 //! `src/vi/par.rs`) inside a rayon pool of n threads (the sparse factors' column batches).
 //! The tolerance is zero by construction:
 //! the VI reduces its parallel partial sums in block order, so serial and parallel sweeps give
-//! the same bits (src/vi.rs), and nothing else may depend on scheduling or on addresses (hash
+//! the same bits (src/vi/par.rs), and nothing else may depend on scheduling or on addresses (hash
 //! map iteration order, for instance).
 //!
 //! Two scenes, both built from scene text with `pbdda::scene::parse`:
