@@ -25,10 +25,11 @@ pub fn body_aabb(shape: &BodyShape) -> Aabb {
     }
 }
 
-/// Pairs `(i, j)`, `i < j`, sorted, of bodies whose boxes inflated by `threshold / 2` (d0 in
-/// the paper) overlap ([`Aabb::overlaps`]), except pairs of two fixed bodies.
+/// Pairs of bodies whose boxes inflated by `threshold / 2` (d0 in the paper) overlap
+/// ([`Aabb::overlaps`]), except pairs of two fixed bodies: each pair as its contacts are keyed
+/// (a particle before a block, else the lower index first; [`oriented`]), sorted.
 pub fn candidate_pairs(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<(usize, usize)> {
-    overlapping(&boxes(shapes, threshold), fixed)
+    overlapping(shapes, &boxes(shapes, threshold), fixed)
 }
 
 /// The bodies' boxes inflated by `threshold / 2`.
@@ -73,14 +74,14 @@ impl PairCache {
             let margin = if boxes.is_empty() { 0.0 } else { MARGIN * median_extent(&boxes, 0) };
             self.grown = boxes.iter().map(|b| b.inflated(margin)).collect();
             self.fixed = fixed.to_vec();
-            self.pairs = overlapping(&self.grown, fixed);
+            self.pairs = overlapping(shapes, &self.grown, fixed);
         }
         self.pairs.iter().copied().filter(|&(i, j)| boxes[i].overlaps(&boxes[j])).collect()
     }
 }
 
-/// Pairs `(i, j)`, `i < j`, sorted, of overlapping boxes, except pairs of two fixed bodies.
-fn overlapping(boxes: &[Aabb], fixed: &[bool]) -> Vec<(usize, usize)> {
+/// Pairs of overlapping boxes, except pairs of two fixed bodies, [`oriented`] and sorted.
+fn overlapping(shapes: &[BodyShape], boxes: &[Aabb], fixed: &[bool]) -> Vec<(usize, usize)> {
     if boxes.is_empty() {
         return Vec::new();
     }
@@ -91,8 +92,23 @@ fn overlapping(boxes: &[Aabb], fixed: &[bool]) -> Vec<(usize, usize)> {
     for (s, w) in strips.offsets.windows(2).enumerate() {
         sweep(&strips, s, &entries[w[0]..w[1]], &mut pairs);
     }
+    for p in &mut pairs {
+        let (a, b) = oriented(shapes, (*p >> 32) as usize, (*p & 0xffff_ffff) as usize);
+        *p = (a as u64) << 32 | b as u64;
+    }
     pairs.sort_unstable();
     pairs.into_iter().map(|p| ((p >> 32) as usize, (p & 0xffff_ffff) as usize)).collect()
+}
+
+/// The pair `(i, j)`, `i < j`, as the narrow phase keys its contacts: a particle's contacts with
+/// a block have the particle as `a` (`particle::particle_block`), two particles' the lower
+/// index (`particle::particle_particle`); a pair of blocks keeps the lower index first. Sorted
+/// so, the pairs of a pile give its contacts in key order as they are found, which
+/// `contact::detect_in_order` then checks instead of sorting them (math note §5, "Pairs kept
+/// between steps").
+fn oriented(shapes: &[BodyShape], i: usize, j: usize) -> (usize, usize) {
+    let particle = |k: usize| !matches!(shapes[k], BodyShape::Polygon { .. });
+    if particle(j) && !particle(i) { (j, i) } else { (i, j) }
 }
 
 /// One box in one strip: its interval on the sweep axis and on the strip axis.
@@ -220,10 +236,11 @@ mod tests {
         for i in 0..shapes.len() {
             for j in i + 1..shapes.len() {
                 if boxes[i].overlaps(&boxes[j]) && !(fixed[i] && fixed[j]) {
-                    pairs.push((i, j));
+                    pairs.push(oriented(shapes, i, j));
                 }
             }
         }
+        pairs.sort_unstable();
         pairs
     }
 
@@ -361,6 +378,19 @@ mod tests {
         let shapes = [d(0.0), d(2.0), d(4.0)];
         assert_eq!(candidate_pairs(&shapes, &[true, false, true], 0.1), vec![(0, 1), (1, 2)]);
         assert_eq!(candidate_pairs(&shapes, &[true, true, false], 0.1), vec![(1, 2)]);
+    }
+
+    /// A pair is oriented as its contacts are keyed: a particle (disk or ring) before a block
+    /// whatever their indices, two particles and two blocks lower index first; and sorted so.
+    /// Bodies 0 and 3 are squares, 1 and 2 disks, all four overlapping (the pairs listed by
+    /// hand).
+    #[test]
+    fn pairs_come_particle_first_and_sorted() {
+        use super::super::testkit::{disk, rect};
+        let shapes =
+            [rect(-1.0, -1.0, 1.0, 1.0), disk(0.5, 0.0, 1.0), disk(1.0, 0.0, 1.0), rect(0.0, -1.0, 2.0, 1.0)];
+        let pairs = candidate_pairs(&shapes, &[false; 4], 0.1);
+        assert_eq!(pairs, vec![(0, 3), (1, 0), (1, 2), (1, 3), (2, 0), (2, 3)]);
     }
 
     /// A disk in a ring's hole overlaps the ring's (outer circle) box.
