@@ -168,11 +168,12 @@ pub fn detect_in(
 }
 
 /// [`detect_in`]'s contacts in the order the pairs gave them, and the indices that read them in
-/// key order (a stable sort's). A caller that reads each contact once reads them through the
-/// indices instead of moving them: sorting the contacts themselves (112 bytes each; the
-/// walls' contacts on a pile, found first by the walls' low indices, have the particle as `a`
-/// and lie out of order) made 88,000 of the 2.1 M cache misses of a warm step of the
-/// 10,000-disk pile (cachegrind, 2 MB last level).
+/// key order (a stable sort's; the identity when they were found in key order, as a pile's are
+/// from pairs listed as [`broad::candidate_pairs`] lists them). A caller that reads each
+/// contact once reads them through the indices instead of moving them: sorting the contacts
+/// themselves (112 bytes each) made 88,000 of the 2.1 M cache misses of a warm step of the
+/// 10,000-disk pile (cachegrind, 2 MB last level), when the pairs still came lower index first
+/// and the walls' contacts, which have the particle as `a`, lay out of order.
 pub(crate) fn detect_in_order(
     shapes: &[BodyShape],
     pairs: Vec<(usize, usize)>,
