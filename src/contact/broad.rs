@@ -27,7 +27,7 @@ pub fn body_aabb(shape: &BodyShape) -> Aabb {
 
 /// Pairs of bodies whose boxes inflated by `threshold / 2` (d0 in the paper) overlap
 /// ([`Aabb::overlaps`]), except pairs of two fixed bodies: each pair as its contacts are keyed
-/// (a particle before a block, else the lower index first; [`oriented`]), sorted.
+/// (a particle before a block, else the lower index first: `oriented`), sorted.
 pub fn candidate_pairs(shapes: &[BodyShape], fixed: &[bool], threshold: f64) -> Vec<(usize, usize)> {
     overlapping(shapes, &boxes(shapes, threshold), fixed)
 }
