@@ -53,7 +53,7 @@ impl Scaling {
     /// With Jacobi the sweeps read `sc` for both, one stream of memory instead of two (0.48 MB
     /// a pass on the 10,000-disk pile's 60,000 rows).
     pub fn gs(&self) -> &[f64] {
-        if self.jacobi { &self.sc } else { &self.gs }
+        gs_of(self.jacobi, &self.sc, &self.gs)
     }
 
     /// Scaling factors of row i from its diagonal entry d (guarded here).
@@ -146,14 +146,19 @@ impl Scaling {
         let mut dq: f64 = 0.0;
         // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
         let n = q.len();
-        let gs = if self.jacobi { &self.sc[..n] } else { &self.gs[..n] };
-        let (qs, sc) = (&mut self.qs[..n], &self.sc[..n]);
+        let Scaling { jacobi, sc, gs, qs, .. } = self;
+        let (gs, qs, sc) = (&gs_of(*jacobi, sc, gs)[..n], &mut qs[..n], &sc[..n]);
         for i in 0..n {
             qs[i] = sc[i] * q[i];
             dq = larger((gs[i] * qs[i]).abs(), dq);
         }
         dq.max(1.0)
     }
+}
+
+/// [`Scaling::gs`] from its fields (`scale_q` writes `qs` while it reads them).
+fn gs_of<'a>(jacobi: bool, sc: &'a [f64], gs: &'a [f64]) -> &'a [f64] {
+    if jacobi { sc } else { gs }
 }
 
 /// A row's scaling factors (sd, sc, dd) from its diagonal entry d, guarded: d <= 0 or not

@@ -131,12 +131,11 @@ impl World {
         // warm step of the 10,000-disk pile); joint partners after it, if any
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
-        let n = order.len();
+        let n = geoms.len();
         let mut found = Detected { contacts: Vec::with_capacity(n), brief: Vec::with_capacity(n) };
         let (mut warm, mut laws, mut lin) =
             (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n));
-        for k in order {
-            let mut geom = geoms[k].clone();
+        let mut add = |mut geom: ContactGeom| {
             if any_mesh {
                 label_mesh_kind(&mut geom, &meshes);
             }
@@ -155,6 +154,11 @@ impl World {
             found.brief.push(Brief::of(&c, &law, memory));
             laws.push(law);
             found.contacts.push(c);
+        };
+        // as found when that is key order (no indices), else through the indices
+        match order {
+            None => geoms.into_iter().for_each(&mut add),
+            Some(order) => order.into_iter().for_each(|k| add(geoms[k].clone())),
         }
         if joints {
             let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
