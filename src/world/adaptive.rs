@@ -3,18 +3,18 @@
 //! [`World::step`] advances one scene step of length dt. It runs it as one *trial*; a trial
 //! that fails — the VI did not converge (unless `[solver] allow_unconverged`), a displacement
 //! is not finite, a body moved farther than the contact detection could see, or a contact
-//! penetrates deeper than 5 % of d0 and deeper than at the trial's start — is undone (the
-//! state saved before it is restored) and the rest of the step is run as trials of half the
-//! length, down to dt / 2^max_halvings. If a trial of the smallest length fails, the run stops
-//! with [`StepError::Failed`], naming the step, the cause and the bodies. Output times stay on
-//! the scene's grid: the record of a split step is the merge of its trials, at the end of the
-//! step, with `dt` the smallest trial length used and an [`Event::StepSplit`] per halving.
+//! penetrates deeper than 5 % of d0 and deeper than at the trial's start — is undone (what it
+//! changed was saved as it changed it: [`Undo`]) and the rest of the step is run as trials of
+//! half the length, down to dt / 2^max_halvings. If a trial of the smallest length fails, the
+//! run stops with [`StepError::Failed`], naming the step, the cause and the bodies. Output
+//! times stay on the scene's grid: the record of a split step is the merge of its trials, at
+//! the end of the step, with `dt` the smallest trial length used and an [`Event::StepSplit`]
+//! per halving.
 
 use super::{Event, StepError, StepRecord, TrackedPoint, World};
 use crate::body::Body;
 use crate::connector::Connector;
 use crate::contact::ContactKey;
-use crate::contact::set::ContactMemory;
 use crate::dofs::DofMap;
 use std::collections::HashSet;
 use std::fmt;
@@ -67,19 +67,33 @@ impl From<Trouble> for Failure {
     }
 }
 
-/// The state a trial changes (everything but the model, the factors, which every trial
-/// refreshes, and scratch).
-struct Saved {
-    bodies: Vec<Body>,
+/// What a trial has changed of the state, saved as the trial first changes it (math note
+/// §10.8), so that a failed trial can be undone. The scalars are saved when the trial starts;
+/// each other part by [`World::keep`] just before the trial first changes it, and only while a
+/// later check can still fail the trial. The contact memory is never saved: a trial changes it
+/// last, after its last check. (Saving everything at the start cloned every body, name and
+/// mesh included, and the contact memory on every step: 8 % of a warm step of the 10,000-disk
+/// pile, whose bodies rest and whose trials cannot fail once they are solved.)
+#[derive(Clone)]
+pub(super) struct Undo {
     time: f64,
     started: bool,
-    load_points: Vec<TrackedPoint>,
-    monitors: Vec<TrackedPoint>,
-    connectors: Vec<Connector>,
-    dofs: DofMap,
-    memory: ContactMemory,
-    broken: HashSet<ContactKey>,
     allowance: f64,
+    bodies: Option<(Vec<Body>, Vec<TrackedPoint>, Vec<TrackedPoint>)>,
+    connectors: Option<Vec<Connector>>,
+    dofs: Option<DofMap>,
+    broken: Option<HashSet<ContactKey>>,
+}
+
+/// A part of the state a trial changes ([`World::keep`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) enum Part {
+    /// The bodies and the points that move with them.
+    Bodies,
+    Connectors,
+    Dofs,
+    /// The broken joints.
+    Broken,
 }
 
 impl World {
@@ -96,8 +110,17 @@ impl World {
             let h = dt / (1u64 << level) as f64;
             // time as step × dt at the step's end, not accumulated
             let t1 = if done + 1 == 1 << level { step as f64 * dt } else { t0 + (done + 1) as f64 * h };
-            let saved = (level < most).then(|| self.save());
-            match (self.trial(h, t1), saved) {
+            self.undo = (level < most).then(|| Undo {
+                time: self.time,
+                started: self.started,
+                allowance: self.allowance,
+                bodies: None,
+                connectors: None,
+                dofs: None,
+                broken: None,
+            });
+            let outcome = self.trial(h, t1);
+            match (outcome, self.undo.take()) {
                 (Ok(rec), _) => {
                     merged = Some(match merged {
                         Some(m) => merge(m, rec),
@@ -106,8 +129,8 @@ impl World {
                     done += 1;
                 }
                 (Err(Failure::Fatal(e)), _) => return Err(e),
-                (Err(Failure::Retry(trouble)), Some(saved)) => {
-                    self.restore(saved);
+                (Err(Failure::Retry(trouble)), Some(undo)) => {
+                    self.restore(undo);
                     (level, done) = (level + 1, done * 2);
                     splits.push(Event::StepSplit {
                         step,
@@ -128,25 +151,42 @@ impl World {
         Ok(rec)
     }
 
-    fn save(&self) -> Saved {
-        Saved {
-            bodies: self.bodies.clone(),
-            time: self.time,
-            started: self.started,
-            load_points: self.load_points.clone(),
-            monitors: self.monitors.clone(),
-            connectors: self.connectors.clone(),
-            dofs: self.dofs.clone(),
-            memory: self.memory.clone(),
-            broken: self.broken.clone(),
-            allowance: self.allowance,
+    /// Saves `part` into the trial's undo, unless it is saved already or the trial cannot be
+    /// undone (no retry left, or no check left that could fail it).
+    pub(super) fn keep(&mut self, part: Part) {
+        let Some(u) = &mut self.undo else { return };
+        match part {
+            Part::Bodies => {
+                u.bodies.get_or_insert_with(|| {
+                    (self.bodies.clone(), self.load_points.clone(), self.monitors.clone())
+                });
+            }
+            Part::Connectors => {
+                u.connectors.get_or_insert_with(|| self.connectors.clone());
+            }
+            Part::Dofs => {
+                u.dofs.get_or_insert_with(|| self.dofs.clone());
+            }
+            Part::Broken => {
+                u.broken.get_or_insert_with(|| self.broken.clone());
+            }
         }
     }
 
-    fn restore(&mut self, s: Saved) {
-        (self.bodies, self.time, self.started) = (s.bodies, s.time, s.started);
-        (self.load_points, self.monitors, self.connectors) = (s.load_points, s.monitors, s.connectors);
-        (self.dofs, self.memory, self.broken, self.allowance) = (s.dofs, s.memory, s.broken, s.allowance);
+    fn restore(&mut self, u: Undo) {
+        (self.time, self.started, self.allowance) = (u.time, u.started, u.allowance);
+        if let Some((bodies, load_points, monitors)) = u.bodies {
+            (self.bodies, self.load_points, self.monitors) = (bodies, load_points, monitors);
+        }
+        if let Some(connectors) = u.connectors {
+            self.connectors = connectors;
+        }
+        if let Some(dofs) = u.dofs {
+            self.dofs = dofs;
+        }
+        if let Some(broken) = u.broken {
+            self.broken = broken;
+        }
     }
 
     /// Per body, the largest motion of a point under the increment `dbar`.
@@ -168,6 +208,19 @@ impl World {
         })
     }
 
+    /// The depth from which a penetration fails a trial: 5 % of d0 (math note §10.8).
+    fn penetration_limit(&self) -> f64 {
+        0.05 * self.threshold
+    }
+
+    /// Whether some body's largest point motion (`motions`) reaches half of 1e-3 of the
+    /// penetration limit: otherwise no penetration can grow past its start by that 1e-3 of the
+    /// limit, and [`Self::new_penetration`] finds none.
+    pub(super) fn may_penetrate(&self, motions: &[f64]) -> bool {
+        let limit = self.penetration_limit();
+        !motions.iter().all(|&m| m <= 0.5e-3 * limit)
+    }
+
     /// The first contact of the current configuration that penetrates deeper than 5 % of d0
     /// and deeper than at the trial's start (`before`: the trial's contacts, detected sorted by
     /// key, with their start gaps; a start overlap that does not grow, by more than 1e-3 of the
@@ -175,17 +228,17 @@ impl World {
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
     /// penetration only within it. A depth grows by at most the two bodies' largest point
     /// motions, so when no body's motion (`motions`) reaches half of 1e-3 of the limit, no
-    /// contact can qualify and detection is skipped (math note §10.8).
+    /// contact can qualify and detection is skipped (math note §10.8; [`Self::may_penetrate`]).
     pub(super) fn new_penetration(
         &self,
         before: &[super::detect::Contact],
         motions: &[f64],
         threshold: f64,
     ) -> Option<Trouble> {
-        let limit = 0.05 * self.threshold;
-        if motions.iter().all(|&m| m <= 0.5e-3 * limit) {
+        if !self.may_penetrate(motions) {
             return None;
         }
+        let limit = self.penetration_limit();
         let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
         found.into_iter().find_map(|g| {
             let start = before

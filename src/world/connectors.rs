@@ -3,6 +3,7 @@
 //! breaks and the step is solved again without it, and after the step their forces and anchors
 //! follow the bodies' increments.
 
+use super::adaptive::Part;
 use super::{Event, World};
 use crate::cluster::{CouplingBlock, Flexibility};
 use crate::dofs::DofMap;
@@ -15,6 +16,7 @@ impl World {
 
     /// The DOF map and clusters for the current connector graph; the factors start afresh.
     pub(super) fn renumber(&mut self) {
+        self.keep(Part::Dofs);
         self.dofs = DofMap::new(&self.bodies, &self.coupled_pairs());
         self.flex =
             Flexibility::new(self.settings.sparse_only).with_factor_drift(self.model.solver.factor_drift);
@@ -46,6 +48,7 @@ impl World {
             let mut trial = self.connectors[k].clone();
             trial.update(&self.bodies, &body_dof(&self.dofs, dbar));
             if trial.exceeds_strength() {
+                self.keep(Part::Connectors);
                 let c = &mut self.connectors[k];
                 c.break_off();
                 c.broken_at = Some(step);
@@ -62,6 +65,7 @@ impl World {
     /// After the step, before the bodies move: forces from the increments, anchors moved with
     /// their bodies (the bodies are still in the step-start state the stiffness was built on).
     pub(super) fn update_connectors(&mut self, dbar: &[f64]) {
+        self.keep(Part::Connectors);
         let (bodies, d) = (&self.bodies, body_dof(&self.dofs, dbar));
         for c in &mut self.connectors {
             c.update(bodies, &d);

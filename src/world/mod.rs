@@ -134,6 +134,9 @@ pub struct World {
     started: bool,
     /// Length of the current trial step (dt, or a fraction of it: `adaptive.rs`).
     h: f64,
+    /// What the current trial has changed, to undo it if it fails (`None` when it cannot be
+    /// repeated: `adaptive.rs`).
+    undo: Option<adaptive::Undo>,
     pipeline: Pipeline,
 }
 
@@ -175,6 +178,7 @@ impl World {
             allowance: 1e-9 * threshold,
             started: false,
             h: 0.0,
+            undo: None,
             pipeline: Pipeline::default(),
         };
         world.renumber();
@@ -206,6 +210,10 @@ impl World {
                 return Err(trouble.into());
             }
             warnings.push(Warning::Trouble { step, trouble });
+        }
+        if !self.may_penetrate(&motion.motions) {
+            // no check below can fail the trial: nothing to undo
+            self.undo = None;
         }
         self.allowance = self.gap_accuracy(&solved);
         self.update_connectors(&motion.dbar);

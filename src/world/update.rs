@@ -1,5 +1,6 @@
 //! Stage 5 (update the bodies, breakage, contact memory) and the contact part of stage 6.
 
+use super::adaptive::Part;
 use super::detect::Contact;
 use super::solve::{Increment, Solved};
 use super::{ContactRecord, ContactState, Event, Warning, World};
@@ -39,6 +40,7 @@ impl World {
     /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
     /// the next step starts from k v1 (see [`Self::v0`]).
     pub(super) fn update(&mut self, m: &Motion, dt: f64) {
+        self.keep(Part::Bodies);
         // a body's d̄ (none for a mesh, which moves by its nodes); gathered where it is used, not
         // into a table per body, as v0 (the two tables cost 5 µs of a warm step of the 1,000-disk
         // pile)
@@ -111,6 +113,7 @@ impl World {
         broken: &[bool],
         step: usize,
     ) -> Vec<Event> {
+        self.keep(Part::Broken);
         let mut events = Vec::new();
         for (c, _) in contacts.iter().zip(broken).filter(|(_, b)| **b) {
             self.broken.insert(c.geom.key);
