@@ -65,7 +65,17 @@ pub struct Flexibility {
     /// later one visits only them and the coupled clusters, not every body (0.1–0.2 ms of a
     /// warm step of the 10,000-disk pile).
     deforming: Vec<usize>,
+    /// Per cluster, where its closed-form K̃_c⁻¹ (n_c × n_c, column-major) starts in `closed`,
+    /// or `NONE` for a sparse cluster. The global solves (the prediction, each response) read
+    /// these packed blocks in cluster order, 72 bytes a rigid body, instead of each factor
+    /// through its own allocation (two padded 6×6 matrices): `Factor::solve` was 3.9 % of a
+    /// warm step of the 10,000-disk pile (perf).
+    closed_at: Vec<u32>,
+    closed: Vec<f64>,
 }
+
+/// A cluster's entry in `Flexibility::closed_at` when it is sparse.
+const NONE: u32 = u32::MAX;
 
 /// The geometry a sparse cluster's factor was formed on: each member's mesh nodes, or its
 /// rotation for a block or particle (whose connector blocks turn with it).
@@ -102,6 +112,8 @@ impl Flexibility {
             formed: Vec::new(),
             sparse_factorizations: 0,
             deforming: Vec::new(),
+            closed_at: Vec::new(),
+            closed: Vec::new(),
         }
     }
 
@@ -140,6 +152,8 @@ impl Flexibility {
             self.factors.clear();
             self.stamps.clear();
             self.formed.clear();
+            self.closed_at.clear();
+            self.closed.clear();
             self.dt = dt;
             self.deforming = (0..map.clusters())
                 .filter(|&c| map.members(c).iter().any(|&b| bodies[b].deformable))
@@ -192,6 +206,7 @@ impl Flexibility {
                 self.sparse_factorizations += 1;
                 Factor::Sparse(sparse)
             };
+            self.pack(c, &factor, map.cluster_range(c).len(), first);
             let stamp = STAMPS.fetch_add(1, Ordering::Relaxed);
             if first {
                 self.factors.push(Arc::new(factor));
@@ -204,6 +219,25 @@ impl Flexibility {
         Ok(())
     }
 
+    /// Keeps cluster `c`'s closed-form K̃⁻¹ over its `n` DOFs in `closed` (a new entry on the
+    /// first refresh, in cluster order; else over the old one, which has the same size).
+    fn pack(&mut self, c: usize, factor: &Factor, n: usize, first: bool) {
+        let Factor::Body { inverse, .. } = factor else {
+            if first {
+                self.closed_at.push(NONE);
+            }
+            return;
+        };
+        if first {
+            self.closed_at.push(self.closed.len() as u32);
+            self.closed.resize(self.closed.len() + n * n, 0.0);
+        }
+        let at = self.closed_at[c] as usize;
+        for (j, column) in self.closed[at..at + n * n].chunks_exact_mut(n).enumerate() {
+            column.copy_from_slice(&inverse.column(j).as_slice()[..n]);
+        }
+    }
+
     /// Per cluster, a stamp that changes exactly when its factor is replaced: no two factors
     /// formed in one process, in any world, share one. What is derived from the factors can be
     /// kept while the stamps stay the same (the body form's packed blocks, math note §3.3).
@@ -213,7 +247,10 @@ impl Flexibility {
 
     /// `v ← K̃⁻¹ v` for a vector over cluster `c`'s DOF range.
     pub fn solve_cluster(&self, c: usize, v: &mut [f64]) {
-        self.factors[c].solve(v);
+        match self.closed_at[c] {
+            NONE => self.factors[c].solve(v),
+            at => body_solve(&self.closed[at as usize..], v.len(), v),
+        }
     }
 
     /// `v ← K̃⁻¹ v` for a global DOF vector (clusters are independent).
@@ -273,29 +310,30 @@ impl ClusterSolver {
 impl Factor {
     fn solve(&self, v: &mut [f64]) {
         match self {
-            Factor::Body { inverse, .. } => {
-                // over the body's own n DOFs, not the padded 6×6 (column by column, as a product,
-                // from the column-major storage)
-                const M: usize = crate::body::MAX_DOF;
-                let (n, k) = (v.len(), inverse.as_slice());
-                if n == 3 {
-                    // a rigid body, unrolled (the same sums) and written back as three stores,
-                    // not a call to memcpy: 3 % of a warm step of the 10,000-disk pile went to
-                    // this function (perf), the loops 0.05 M instructions of the 1,000-disk pile's
-                    crate::jacobian::copy_small(v, &block_times::<3>(k, M, v));
-                    return;
-                }
-                let mut x = [0.0; M];
-                for (j, &vj) in v.iter().enumerate() {
-                    for (i, xi) in x[..n].iter_mut().enumerate() {
-                        *xi += k[j * M + i] * vj;
-                    }
-                }
-                v.copy_from_slice(&x[..n]);
-            }
+            Factor::Body { inverse, .. } => body_solve(inverse.as_slice(), crate::body::MAX_DOF, v),
             Factor::Sparse(f) => f.solve_in_place(v),
         }
     }
+}
+
+/// `v ← K v` over a body's n = `v.len()` DOFs, K its closed-form K̃⁻¹, column-major with column
+/// stride `stride` (n packed, or the padded 6): column by column, as a product.
+fn body_solve(k: &[f64], stride: usize, v: &mut [f64]) {
+    const M: usize = crate::body::MAX_DOF;
+    let n = v.len();
+    if n == 3 {
+        // a rigid body, unrolled (the same sums) and written back as three stores, not a call
+        // to memcpy (the loops cost 0.05 M instructions of a warm step of the 1,000-disk pile)
+        crate::jacobian::copy_small(v, &block_times::<3>(k, stride, v));
+        return;
+    }
+    let mut x = [0.0; M];
+    for (j, &vj) in v.iter().enumerate() {
+        for (i, xi) in x[..n].iter_mut().enumerate() {
+            *xi += k[j * stride + i] * vj;
+        }
+    }
+    v.copy_from_slice(&x[..n]);
 }
 
 /// K u over the leading N × N block of the column-major `k` (column stride `stride`), summed
