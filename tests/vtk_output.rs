@@ -1,6 +1,10 @@
 //! ParaView output (scene-format "Outputs", VTK data table): short runs of the paper examples
-//! write `vtk/scene.pvd` and one `.vtu` per written step; each file is read back with vtkio's
-//! XML reader and compared with the CSVs written in the same run.
+//! write `vtk/scene.pvd` and one `.vtu` per written step; each file is read back (by the
+//! reader below, from the layout VTK's XML format gives the raw appended data: a UInt64 byte
+//! count, then the values, at the `offset` of each `DataArray` after the `_` that opens the
+//! data) and compared with the CSVs written in the same run. VTK's own reader was run on the
+//! files too, once, by `scripts/check-vtu.py` (it needs the Python `vtk` package, so it is not a
+//! test; its result is in the script's header).
 //!
 //! Where the expected numbers come from:
 //! - cell and point counts: the contract (one cell per body, one line per contact row of
@@ -24,7 +28,70 @@ use pbdda::output::results::{Table, write_geometry};
 use pbdda::output::vtk::VtkWriter;
 use pbdda::world::World;
 use std::path::{Path, PathBuf};
-use vtkio::model::{Attribute, CellType, DataSet, Piece, VertexNumbers, Vtk};
+
+/// VTK cell type codes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum CellType {
+    Line = 3,
+    Triangle = 5,
+    TriangleStrip = 6,
+    Polygon = 7,
+}
+
+impl CellType {
+    fn of(code: f64) -> CellType {
+        let all = [CellType::Line, CellType::Triangle, CellType::TriangleStrip, CellType::Polygon];
+        all.into_iter().find(|&t| t as u8 as f64 == code).unwrap_or_else(|| panic!("cell type {code}"))
+    }
+}
+
+/// The value of attribute `key` in the XML tag `tag`.
+fn attribute<'a>(tag: &'a str, key: &str) -> &'a str {
+    let at = tag.find(&format!(" {key}=\"")).unwrap_or_else(|| panic!("no {key} in {tag}")) + key.len() + 3;
+    &tag[at..at + tag[at..].find('"').expect("closing quote")]
+}
+
+/// One array of a `.vtu` file: its section (`PointData`, `CellData`, `Points`, `Cells`), name
+/// and values.
+type Array = (String, String, Vec<f64>);
+
+/// The arrays of a `.vtu` file with raw appended data, as f64, and the piece's point and cell
+/// counts.
+fn read_vtu(path: &Path) -> (Vec<Array>, usize, usize) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let open = b"<AppendedData encoding=\"raw\">";
+    let at = bytes.windows(open.len()).position(|w| w == open).expect("raw appended data");
+    let head = std::str::from_utf8(&bytes[..at]).expect("UTF-8 header");
+    assert!(head.contains("byte_order=\"LittleEndian\" header_type=\"UInt64\""), "{head}");
+    let data = at + open.len() + bytes[at + open.len()..].iter().position(|&b| b == b'_').expect("_") + 1;
+    let piece = &head[head.find("<Piece ").expect("piece")..];
+    let count = |key| attribute(piece, key).parse::<usize>().expect("count");
+    let (mut arrays, mut section) = (Vec::new(), "");
+    for tag in head.split('<').map(|t| t.split('>').next().unwrap_or("")) {
+        let name = tag.split([' ', '/']).next().unwrap_or("");
+        if ["PointData", "CellData", "Points", "Cells"].contains(&name) {
+            section = name;
+        }
+        if name != "DataArray" {
+            continue;
+        }
+        assert_eq!(attribute(tag, "format"), "appended", "{tag}");
+        let start = data + attribute(tag, "offset").parse::<usize>().expect("offset");
+        let len = u64::from_le_bytes(bytes[start..start + 8].try_into().unwrap()) as usize;
+        let block = &bytes[start + 8..start + 8 + len];
+        let values: Vec<f64> = match attribute(tag, "type") {
+            "Float64" => block.chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect(),
+            "Int32" => block.chunks(4).map(|c| i32::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
+            "UInt64" => block.chunks(8).map(|c| u64::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
+            "UInt8" => block.iter().map(|&b| b as f64).collect(),
+            other => panic!("type {other}"),
+        };
+        let components: usize = attribute(tag, "NumberOfComponents").parse().expect("components");
+        assert_eq!(values.len() % components, 0, "{tag}");
+        arrays.push((section.to_string(), attribute(tag, "Name").to_string(), values));
+    }
+    (arrays, count("NumberOfPoints"), count("NumberOfCells"))
+}
 
 fn example(name: &str) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name);
@@ -66,54 +133,29 @@ struct Step {
 
 impl Step {
     fn read(path: &Path) -> Step {
-        let vtk = Vtk::import(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not an unstructured grid") };
-        let Some(Piece::Inline(piece)) = pieces.into_iter().next() else { panic!("no inline piece") };
-        let p: Vec<f64> = piece.points.cast_into().expect("f64 points");
-        let points = p.chunks(3).map(|c| Vec2::new(c[0], c[1])).collect();
-        let cells = match piece.cells.cell_verts {
-            VertexNumbers::XML { connectivity, offsets } => {
-                let mut start = 0;
-                offsets
-                    .iter()
-                    .map(|&end| {
-                        let c =
-                            connectivity[start as usize..end as usize].iter().map(|&i| i as usize).collect();
-                        start = end;
-                        c
-                    })
-                    .collect()
-            }
-            VertexNumbers::Legacy { vertices, .. } => {
-                let mut out = Vec::new();
-                let mut i = 0;
-                while i < vertices.len() {
-                    let n = vertices[i] as usize;
-                    out.push(vertices[i + 1..=i + n].iter().map(|&v| v as usize).collect());
-                    i += n + 1;
-                }
-                out
-            }
+        let (arrays, np, nc) = read_vtu(path);
+        let take = |section: &str, name: &str| {
+            arrays.iter().find(|(s, n, _)| s == section && n == name).map(|(_, _, v)| v.clone())
         };
-        let displacement = piece
-            .data
-            .point
-            .into_iter()
-            .find_map(|a| match a {
-                Attribute::DataArray(d) if d.name == "displacement" => d.data.cast_into::<f64>(),
-                _ => None,
-            })
-            .unwrap_or_default();
-        let arrays = piece
-            .data
-            .cell
-            .into_iter()
-            .map(|a| match a {
-                Attribute::DataArray(d) => (d.name, d.data.cast_into::<f64>().expect("numeric array")),
-                Attribute::Field { name, .. } => panic!("unexpected field data {name}"),
+        let p = take("Points", "Points").expect("points");
+        assert_eq!(p.len(), 3 * np);
+        let points = p.chunks(3).map(|c| Vec2::new(c[0], c[1])).collect();
+        let (connectivity, offsets) =
+            (take("Cells", "connectivity").unwrap(), take("Cells", "offsets").unwrap());
+        let mut start = 0;
+        let cells: Vec<Vec<usize>> = offsets
+            .iter()
+            .map(|&end| {
+                let c = connectivity[start..end as usize].iter().map(|&i| i as usize).collect();
+                start = end as usize;
+                c
             })
             .collect();
-        Step { points, cells, types: piece.cells.types, arrays, displacement }
+        let types: Vec<CellType> = take("Cells", "types").unwrap().into_iter().map(CellType::of).collect();
+        assert_eq!((cells.len(), types.len()), (nc, nc));
+        let displacement = take("PointData", "displacement").unwrap_or_default();
+        let arrays = arrays.into_iter().filter(|(s, _, _)| s == "CellData").map(|(_, n, v)| (n, v)).collect();
+        Step { points, cells, types, arrays, displacement }
     }
 
     fn array(&self, name: &str) -> &[f64] {
@@ -421,21 +463,17 @@ fn connector_and_mesh_hooks_write_readable_cells() {
     add_mesh(&mut grid, &mesh);
     assert_eq!((grid.num_cells(), grid.num_points()), (3, 6));
     let path = Path::new(env!("CARGO_TARGET_TMPDIR")).join("hooks.vtu");
-    grid.into_vtk("hooks").export(&path).expect("export");
+    let mut file = std::io::BufWriter::new(std::fs::File::create(&path).expect("create"));
+    grid.write_vtu(&mut file).expect("write");
+    std::io::Write::flush(&mut file).expect("flush");
+    drop(file);
     let step = Step::read(&path);
     assert_eq!(step.cells, vec![vec![0, 1], vec![2, 3, 4], vec![2, 4, 5]]);
     assert_eq!(step.types, vec![CellType::Line, CellType::Triangle, CellType::Triangle]);
     assert_eq!(step.array("axial_force"), &[1.5e4, 0.0, 0.0]);
     assert_eq!(step.array("kind"), &[20.0, 30.0, 30.0]);
     assert_eq!(step.array("stress"), &[0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
-    let vtk = Vtk::import(&path).expect("import");
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("grid") };
-    let Some(Piece::Inline(piece)) = pieces.into_iter().next() else { panic!("piece") };
-    let Some(Attribute::DataArray(d)) = piece.data.point.into_iter().find(|a| a.name() == "displacement")
-    else {
-        panic!("no displacement point data")
-    };
-    let d: Vec<f64> = d.data.cast_into().expect("f64");
+    let d = &step.displacement;
     // the line's two points have none; node 2 (1, 1) moved by 1e-3 (1, 1)
     assert_eq!(&d[..6], &[0.0; 6]);
     assert_eq!(&d[3 * 4..3 * 5], &[1e-3, 1e-3, 0.0]);
