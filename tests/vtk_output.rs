@@ -29,7 +29,8 @@ use pbdda::output::vtk::VtkWriter;
 use pbdda::world::World;
 use std::path::{Path, PathBuf};
 
-/// VTK cell type codes.
+/// VTK cell type codes, from VTK's file format documentation (restated, not taken from the
+/// writer, so that a wrong code there fails here).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum CellType {
     Line = 3,
