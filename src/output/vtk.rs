@@ -152,6 +152,15 @@ impl Grid {
         id
     }
 
+    /// Adds `points` in turn; the id of the first.
+    fn points(&mut self, points: impl Iterator<Item = Vec2>) -> u64 {
+        let first = self.num_points() as u64;
+        points.for_each(|p| {
+            self.point(p);
+        });
+        first
+    }
+
     fn cell(&mut self, ids: impl IntoIterator<Item = u64>, ty: CellType, values: CellValues) {
         self.connectivity.extend(ids);
         self.offsets.push(self.connectivity.len() as u64);
@@ -183,7 +192,7 @@ impl Grid {
 /// Their mean is the centre (to rounding). The unit circle's points are computed once and
 /// turned by `phase`: one sine and cosine per circle, not one per point (64 per disk were 2 %
 /// of a run of the 10,000-disk pile writing every step).
-pub fn circle_points(center: Vec2, radius: f64, phase: f64) -> Vec<Vec2> {
+pub fn circle_points(center: Vec2, radius: f64, phase: f64) -> impl Iterator<Item = Vec2> {
     static UNIT: std::sync::OnceLock<Vec<Vec2>> = std::sync::OnceLock::new();
     let unit = UNIT.get_or_init(|| {
         (0..CIRCLE_SEGMENTS)
@@ -194,7 +203,7 @@ pub fn circle_points(center: Vec2, radius: f64, phase: f64) -> Vec<Vec2> {
             .collect()
     });
     let (s, c) = phase.sin_cos();
-    unit.iter().map(|u| center + Vec2::new(c * u.x - s * u.y, s * u.x + c * u.y) * radius).collect()
+    unit.iter().map(move |u| center + Vec2::new(c * u.x - s * u.y, s * u.x + c * u.y) * radius)
 }
 
 /// Body cells: one per body (see the module notes for the shapes).
@@ -217,31 +226,23 @@ pub fn add_bodies(grid: &mut Grid, world: &World) {
         }
         match &b.outline {
             Outline::Disk { radius } => {
-                let first = grid.num_points() as u64;
-                circle_points(b.centroid, *radius, b.rotation).into_iter().for_each(|p| {
-                    grid.point(p);
-                });
+                let first = grid.points(circle_points(b.centroid, *radius, b.rotation));
                 grid.cell(first..grid.num_points() as u64, CellType::Polygon, values);
             }
             Outline::Ring { outer, inner } => {
-                let o: Vec<u64> = circle_points(b.centroid, *outer, b.rotation)
-                    .into_iter()
-                    .map(|p| grid.point(p))
-                    .collect();
-                let n: Vec<u64> = circle_points(b.centroid, *inner, b.rotation)
-                    .into_iter()
-                    .map(|p| grid.point(p))
-                    .collect();
+                // the outer circle's points, then the inner's
+                let o = grid.points(circle_points(b.centroid, *outer, b.rotation));
+                let n = grid.points(circle_points(b.centroid, *inner, b.rotation));
                 // outer/inner alternating, closed by repeating the first pair
-                let strip = (0..=CIRCLE_SEGMENTS).flat_map(|k| {
-                    let k = k % CIRCLE_SEGMENTS;
-                    [o[k], n[k]]
+                let strip = (0..=CIRCLE_SEGMENTS as u64).flat_map(|k| {
+                    let k = k % CIRCLE_SEGMENTS as u64;
+                    [o + k, n + k]
                 });
-                grid.cell(strip.collect::<Vec<_>>(), CellType::TriangleStrip, values);
+                grid.cell(strip, CellType::TriangleStrip, values);
             }
             Outline::Polygon { vertices, .. } => {
-                let ids: Vec<u64> = vertices.iter().map(|p| grid.point(*p)).collect();
-                grid.cell(ids, CellType::Polygon, values);
+                let first = grid.points(vertices.iter().copied());
+                grid.cell(first..grid.num_points() as u64, CellType::Polygon, values);
             }
         }
     }

@@ -74,7 +74,7 @@ impl From<Trouble> for Failure {
 /// last, after its last check. (Saving everything at the start cloned every body, name and
 /// mesh included, and the contact memory on every step: 8 % of a warm step of the 10,000-disk
 /// pile, whose bodies rest and whose trials cannot fail once they are solved.)
-#[derive(Clone)]
+#[derive(Clone, Default)]
 pub(super) struct Undo {
     time: f64,
     started: bool,
@@ -110,15 +110,8 @@ impl World {
             let h = dt / (1u64 << level) as f64;
             // time as step × dt at the step's end, not accumulated
             let t1 = if done + 1 == 1 << level { step as f64 * dt } else { t0 + (done + 1) as f64 * h };
-            self.undo = (level < most).then(|| Undo {
-                time: self.time,
-                started: self.started,
-                allowance: self.allowance,
-                bodies: None,
-                connectors: None,
-                dofs: None,
-                broken: None,
-            });
+            let (time, started, allowance) = (self.time, self.started, self.allowance);
+            self.undo = (level < most).then(|| Undo { time, started, allowance, ..Undo::default() });
             let outcome = self.trial(h, t1);
             match (outcome, self.undo.take()) {
                 (Ok(rec), _) => {
@@ -215,7 +208,8 @@ impl World {
 
     /// Whether some body's largest point motion (`motions`) reaches half of 1e-3 of the
     /// penetration limit: otherwise no penetration can grow past its start by that 1e-3 of the
-    /// limit, and [`Self::new_penetration`] finds none.
+    /// limit (a depth grows by at most its two bodies' motions), and [`Self::new_penetration`]
+    /// would find none.
     pub(super) fn may_penetrate(&self, motions: &[f64]) -> bool {
         let limit = self.penetration_limit();
         !motions.iter().all(|&m| m <= 0.5e-3 * limit)
@@ -226,18 +220,13 @@ impl World {
     /// key, with their start gaps; a start overlap that does not grow, by more than 1e-3 of the
     /// limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
-    /// penetration only within it. A depth grows by at most the two bodies' largest point
-    /// motions, so when no body's motion (`motions`) reaches half of 1e-3 of the limit, no
-    /// contact can qualify and detection is skipped (math note §10.8; [`Self::may_penetrate`]).
+    /// penetration only within it. The caller asks only when [`Self::may_penetrate`] holds
+    /// (otherwise no contact can qualify, math note §10.8).
     pub(super) fn new_penetration(
         &self,
         before: &[super::detect::Contact],
-        motions: &[f64],
         threshold: f64,
     ) -> Option<Trouble> {
-        if !self.may_penetrate(motions) {
-            return None;
-        }
         let limit = self.penetration_limit();
         let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
         found.into_iter().find_map(|g| {

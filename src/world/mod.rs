@@ -211,7 +211,8 @@ impl World {
             }
             warnings.push(Warning::Trouble { step, trouble });
         }
-        if !self.may_penetrate(&motion.motions) {
+        let may_penetrate = self.may_penetrate(&motion.motions);
+        if !may_penetrate {
             // no check below can fail the trial: nothing to undo
             self.undo = None;
         }
@@ -220,7 +221,7 @@ impl World {
         self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = self.new_penetration(&contacts, &motion.motions, threshold) {
+        if let Some(trouble) = may_penetrate.then(|| self.new_penetration(&contacts, threshold)).flatten() {
             if adaptive {
                 return Err(trouble.into());
             }
