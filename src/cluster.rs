@@ -69,9 +69,10 @@ pub struct Flexibility {
     /// or `NONE` for a sparse cluster. The global solves (the prediction, each response) read
     /// these packed blocks in cluster order, 72 bytes a rigid body, instead of each factor
     /// through its own allocation (two padded 6×6 matrices): `Factor::solve` was 3.9 % of a
-    /// warm step of the 10,000-disk pile (perf).
+    /// warm step of the 10,000-disk pile (perf). The body form's products read them too
+    /// (`delassus::bodies::Blocks`, which shares them while they stay current).
     closed_at: Vec<u32>,
-    closed: Vec<f64>,
+    closed: Arc<Vec<f64>>,
 }
 
 /// A cluster's entry in `Flexibility::closed_at` when it is sparse.
@@ -113,7 +114,7 @@ impl Flexibility {
             sparse_factorizations: 0,
             deforming: Vec::new(),
             closed_at: Vec::new(),
-            closed: Vec::new(),
+            closed: Arc::default(),
         }
     }
 
@@ -153,7 +154,7 @@ impl Flexibility {
             self.stamps.clear();
             self.formed.clear();
             self.closed_at.clear();
-            self.closed.clear();
+            self.closed = Arc::default();
             self.dt = dt;
             self.deforming = (0..map.clusters())
                 .filter(|&c| map.members(c).iter().any(|&b| bodies[b].deformable))
@@ -228,12 +229,14 @@ impl Flexibility {
             }
             return;
         };
+        // (a copy only while body-form blocks made from the old values still share them)
+        let closed = Arc::make_mut(&mut self.closed);
         if first {
-            self.closed_at.push(self.closed.len() as u32);
-            self.closed.resize(self.closed.len() + n * n, 0.0);
+            self.closed_at.push(closed.len() as u32);
+            closed.resize(closed.len() + n * n, 0.0);
         }
         let at = self.closed_at[c] as usize;
-        for (j, column) in self.closed[at..at + n * n].chunks_exact_mut(n).enumerate() {
+        for (j, column) in closed[at..at + n * n].chunks_exact_mut(n).enumerate() {
             column.copy_from_slice(&inverse.column(j).as_slice()[..n]);
         }
     }
@@ -270,6 +273,12 @@ impl Flexibility {
     pub fn inverse_block(&self, c: usize, dofs: &[usize]) -> Option<Vec<f64>> {
         let Factor::Sparse(f) = self.factors[c].as_ref() else { return None };
         Some(f.inverse_block(dofs))
+    }
+
+    /// The closed-form clusters' K̃_c⁻¹, n_c × n_c column-major, in cluster order, and where
+    /// cluster `c`'s starts in them (`None` for a sparse cluster).
+    pub(crate) fn closed(&self, c: usize) -> (&Arc<Vec<f64>>, Option<usize>) {
+        (&self.closed, (self.closed_at[c] != NONE).then_some(self.closed_at[c] as usize))
     }
 
     /// K̃⁻¹ of cluster `c` when it is a single body's closed form (padded to 6×6).
