@@ -5,7 +5,8 @@
 //! step whose rows are all written.
 
 use super::rows::RowFile;
-use crate::world::{StepRecord, World};
+use crate::body::Body;
+use crate::world::{ContactRecord, StepRecord, World};
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
@@ -54,6 +55,8 @@ pub struct CsvWriter {
     every: usize,
     steps_every: usize,
     last_step: usize,
+    /// The second half's rows while they are formatted ([`in_halves`]).
+    spare: Vec<u8>,
 }
 
 /// Column headers of the four CSV files.
@@ -109,6 +112,7 @@ impl CsvWriter {
             every: every.max(1),
             steps_every: 1,
             last_step,
+            spare: Vec::new(),
         })
     }
 
@@ -141,6 +145,7 @@ impl CsvWriter {
             every: every.max(1),
             steps_every: steps_every.max(1),
             last_step,
+            spare: Vec::new(),
         })
     }
 
@@ -188,52 +193,20 @@ impl CsvWriter {
     }
 
     fn write_state(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
-        let (s, t) = (rec.step, Num(rec.time));
-        for b in &world.bodies {
-            let (c, v) = (b.centroid, b.velocity);
-            let (x, y, rot) = (Num(c.x), Num(c.y), Num(b.rotation));
-            write!(
-                self.bodies.rows,
-                "{s},{t},{},{x},{y},{rot},{},{},{}",
-                b.name,
-                Num(v[0]),
-                Num(v[1]),
-                Num(v[2])
-            )?;
-            // a mesh body: centroid, mean rotation and velocity only (its elements go to VTK)
-            if b.deformable && b.mesh.is_none() {
-                for x in b.strain.iter().chain(b.stress.iter()) {
-                    write!(self.bodies.rows, ",{}", Num(*x))?;
-                }
-                writeln!(self.bodies.rows)?;
-            } else {
-                writeln!(self.bodies.rows, ",,,,,,")?;
-            }
-        }
-        for c in &rec.contacts {
-            let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
-            let rolling = c.rolling_moment.map_or(String::new(), |m| Num(m).to_string());
-            writeln!(
-                self.contacts.rows,
-                "{s},{t},{a},{b},{},{},{},{},{},{},{},{rolling},{},{}",
-                c.kind.as_str(),
-                Num(c.point.x),
-                Num(c.point.y),
-                Num(c.normal.x),
-                Num(c.normal.y),
-                Num(c.normal_force),
-                Num(c.shear_force),
-                Num(c.gap),
-                c.state.as_str()
-            )?;
-        }
+        // the step and time open every row: formatted once
+        let head = format!("{},{},", rec.step, Num(rec.time));
+        let head = head.as_bytes();
+        let spare = &mut self.spare;
+        in_halves(&world.bodies, &mut self.bodies.rows, spare, |out, b| body_row(out, head, b))?;
+        in_halves(&rec.contacts, &mut self.contacts.rows, spare, |out, c| contact_row(out, head, world, c))?;
         for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
             let body = &world.bodies[p.body];
             let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
             let (x, y) = (Num(p.current.x), Num(p.current.y));
+            self.monitors.rows.extend_from_slice(head);
             write!(
                 self.monitors.rows,
-                "{s},{t},{},{x},{y},{},{},{},{}",
+                "{},{x},{y},{},{},{},{}",
                 m.name,
                 Num(u.x),
                 Num(u.y),
@@ -256,4 +229,76 @@ impl CsvWriter {
     pub fn log(&mut self, line: &str) -> Result<(), OutputError> {
         writeln!(self.log.rows, "{line}").and_then(|_| self.log.commit()).map_err(io_err(&self.dir))
     }
+}
+
+/// Rows from `HALVES_FROM` items on are formatted in two halves, one per core: the first into
+/// `out`, the second into `spare`, then appended, so the text is the same either way.
+const HALVES_FROM: usize = 2048;
+
+/// Appends `row(item)` for every item to `out`, in order.
+fn in_halves<T: Sync>(
+    items: &[T],
+    out: &mut Vec<u8>,
+    spare: &mut Vec<u8>,
+    row: impl Fn(&mut Vec<u8>, &T) -> io::Result<()> + Sync,
+) -> io::Result<()> {
+    if items.len() < HALVES_FROM {
+        return items.iter().try_for_each(|it| row(out, it));
+    }
+    let (first, second) = items.split_at(items.len() / 2);
+    spare.clear();
+    let (a, b) = micropool::join(
+        || first.iter().try_for_each(|it| row(out, it)),
+        || second.iter().try_for_each(|it| row(spare, it)),
+    );
+    a.and(b)?;
+    out.extend_from_slice(spare);
+    Ok(())
+}
+
+/// One row of `bodies.csv` after `head` (step and time).
+fn body_row(out: &mut Vec<u8>, head: &[u8], b: &Body) -> io::Result<()> {
+    let (c, v) = (b.centroid, b.velocity);
+    out.extend_from_slice(head);
+    write!(
+        out,
+        "{},{},{},{},{},{},{}",
+        b.name,
+        Num(c.x),
+        Num(c.y),
+        Num(b.rotation),
+        Num(v[0]),
+        Num(v[1]),
+        Num(v[2])
+    )?;
+    // a mesh body: centroid, mean rotation and velocity only (its elements go to VTK)
+    if b.deformable && b.mesh.is_none() {
+        for x in b.strain.iter().chain(b.stress.iter()) {
+            write!(out, ",{}", Num(*x))?;
+        }
+        writeln!(out)
+    } else {
+        writeln!(out, ",,,,,,")
+    }
+}
+
+/// One row of `contacts.csv` after `head` (step and time).
+fn contact_row(out: &mut Vec<u8>, head: &[u8], world: &World, c: &ContactRecord) -> io::Result<()> {
+    let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
+    out.extend_from_slice(head);
+    write!(
+        out,
+        "{a},{b},{},{},{},{},{},{},{},",
+        c.kind.as_str(),
+        Num(c.point.x),
+        Num(c.point.y),
+        Num(c.normal.x),
+        Num(c.normal.y),
+        Num(c.normal_force),
+        Num(c.shear_force)
+    )?;
+    if let Some(m) = c.rolling_moment {
+        write!(out, "{}", Num(m))?;
+    }
+    writeln!(out, ",{},{}", Num(c.gap), c.state.as_str())
 }

@@ -49,13 +49,22 @@ pub struct RowFile {
     padded: Vec<bool>,
     /// Rows of the current step, each ending with a newline.
     pub rows: Vec<u8>,
+    /// The bytes of the last write, kept for their storage.
+    out: Vec<u8>,
 }
 
 impl RowFile {
     /// Creates the file at `path` (replacing any), with `header` as its first row unless empty.
     pub fn create(path: &Path, header: &str) -> io::Result<RowFile> {
         let file = File::create(path)?;
-        let mut rows = RowFile { file, len: 0, last: Vec::new(), padded: columns(header), rows: Vec::new() };
+        let mut rows = RowFile {
+            file,
+            len: 0,
+            last: Vec::new(),
+            padded: columns(header),
+            rows: Vec::new(),
+            out: Vec::new(),
+        };
         if !header.is_empty() {
             rows.rows.extend_from_slice(header.as_bytes());
             rows.rows.push(b'\n');
@@ -80,7 +89,7 @@ impl RowFile {
             None => (fs::metadata(path)?.len(), Vec::new(), Vec::new()),
         };
         let file = fs::OpenOptions::new().write(true).open(path)?;
-        Ok(RowFile { file, len, last, padded, rows: Vec::new() })
+        Ok(RowFile { file, len, last, padded, rows: Vec::new(), out: Vec::new() })
     }
 
     /// Writes the current step's rows in one write, laid out so that none straddles a
@@ -89,11 +98,12 @@ impl RowFile {
         if self.rows.is_empty() {
             return Ok(());
         }
-        let (at, out, last) = layout(self.len, &self.last, &self.rows, &self.padded);
+        let (at, last) = layout(self.len, &self.last, &self.rows, &self.padded, &mut self.out);
         self.file.seek(SeekFrom::Start(at))?;
-        self.file.write_all(&out)?;
-        self.len = at + out.len() as u64;
-        self.last = out[last..].to_vec();
+        self.file.write_all(&self.out)?;
+        self.len = at + self.out.len() as u64;
+        self.last.clear();
+        self.last.extend_from_slice(&self.out[last..]);
         self.rows.clear();
         Ok(())
     }
@@ -108,16 +118,37 @@ fn columns(header: &str) -> Vec<bool> {
 }
 
 /// Where and what to write for `rows` after a file of `len` bytes whose last row is `last`:
-/// `(offset, bytes, start of the last row in bytes)`. The offset is `len`, or the start of
+/// the bytes go into `out` (cleared first), and `(offset, start of the last row in out)` is
+/// returned. The offset is `len`, or the start of
 /// `last` when that row is lengthened so that the first new row starts at a boundary.
-pub(crate) fn layout(len: u64, last: &[u8], rows: &[u8], padded: &[bool]) -> (u64, Vec<u8>, usize) {
+///
+/// Only a row that holds a boundary can need work, so the rows are not visited one by one: the
+/// bytes up to the row that holds the next boundary are copied as they are, and that row is
+/// handled as the row-by-row rule says (the tests check the two agree,
+/// `hopping_from_boundary_to_boundary_is_row_by_row`).
+pub(crate) fn layout(len: u64, last: &[u8], rows: &[u8], padded: &[bool], out: &mut Vec<u8>) -> (u64, usize) {
     let mut at = len;
-    let mut out = Vec::with_capacity(rows.len() + PAGE as usize);
+    out.clear();
     let mut prev: Option<usize> = None; // start in `out` of the row before, when it is there
-    for row in rows.split_inclusive(|&b| b == b'\n') {
+    let mut i = 0; // the next row of `rows` to copy
+    while i < rows.len() {
+        let here = at + out.len() as u64;
+        let k = i + (PAGE - here % PAGE) as usize; // the byte of `rows` after the next boundary
+        if k >= rows.len() {
+            copy_rows(out, &mut prev, &rows[i..]);
+            break;
+        }
+        let s = row_start(rows, i, k);
+        copy_rows(out, &mut prev, &rows[i..s]);
+        if s == k {
+            i = s; // a row starts at the boundary
+            continue;
+        }
+        let e = rows[k..].iter().position(|&b| b == b'\n').map_or(rows.len(), |n| k + n + 1);
+        let row = &rows[s..e];
         let start = at + out.len() as u64;
         let gap = PAGE - start % PAGE; // bytes to the next boundary
-        if !start.is_multiple_of(PAGE) && (row.len() as u64) > gap && (row.len() as u64) <= PAGE {
+        if !start.is_multiple_of(PAGE) && (row.len() as u64) <= PAGE {
             let (before, before_start) = match prev {
                 Some(i) => (&out[i..], at + i as u64),
                 None => (last, len - last.len() as u64),
@@ -136,8 +167,23 @@ pub(crate) fn layout(len: u64, last: &[u8], rows: &[u8], padded: &[bool]) -> (u6
         }
         prev = Some(out.len());
         out.extend_from_slice(row);
+        i = e;
     }
-    (at, out, prev.unwrap_or(0))
+    (at, prev.unwrap_or(0))
+}
+
+/// Start of the row of `rows` that holds byte `k`, searching back no further than `i` (a row
+/// start).
+fn row_start(rows: &[u8], i: usize, k: usize) -> usize {
+    rows[i..k].iter().rposition(|&b| b == b'\n').map_or(i, |n| i + n + 1)
+}
+
+/// Appends whole rows to `out`, with `prev` set to the start of the last of them.
+fn copy_rows(out: &mut Vec<u8>, prev: &mut Option<usize>, rows: &[u8]) {
+    if let Some(last) = rows.len().checked_sub(1) {
+        *prev = Some(out.len() + row_start(rows, 0, last));
+        out.extend_from_slice(rows);
+    }
 }
 
 /// `row` (ending with a newline) with `extra` more bytes, spread over its decimal numbers in
@@ -292,7 +338,8 @@ mod tests {
                     rows.push(b'\n');
                     want.push(r);
                 }
-                let (at, out, start) = layout(file.len() as u64, &last, &rows, &padded);
+                let mut out = Vec::new();
+                let (at, start) = layout(file.len() as u64, &last, &rows, &padded, &mut out);
                 let at = at as usize;
                 prop_assert!(at <= file.len());
                 // a kill at every boundary the write crosses
@@ -308,6 +355,63 @@ mod tests {
             let rows = whole_rows(&file);
             prop_assert_eq!(rows.len(), want.len());
             same_values(&rows, &want);
+        }
+    }
+
+    /// The layout rule as the module docs state it, one row at a time: the specification
+    /// [`layout`] hops through.
+    fn layout_row_by_row(len: u64, last: &[u8], rows: &[u8], padded: &[bool]) -> (u64, Vec<u8>, usize) {
+        let (mut at, mut out, mut prev) = (len, Vec::new(), None::<usize>);
+        for row in rows.split_inclusive(|&b| b == b'\n') {
+            let start = at + out.len() as u64;
+            let gap = PAGE - start % PAGE;
+            if !start.is_multiple_of(PAGE) && (row.len() as u64) > gap && (row.len() as u64) <= PAGE {
+                let (before, before_start) = match prev {
+                    Some(i) => (&out[i..], at + i as u64),
+                    None => (last, len - last.len() as u64),
+                };
+                if before_start / PAGE == start / PAGE
+                    && let Some(longer) = lengthen(before, gap as usize, padded)
+                {
+                    match prev {
+                        Some(i) => out.truncate(i),
+                        None => at = before_start,
+                    }
+                    out.extend_from_slice(&longer);
+                }
+            }
+            prev = Some(out.len());
+            out.extend_from_slice(row);
+        }
+        (at, out, prev.unwrap_or(0))
+    }
+
+    proptest! {
+        /// Rows of any length from 1 byte to over a page (a long name), after a file of any
+        /// length: the same bytes, offset and last row as the row-by-row rule.
+        #[test]
+        fn hopping_from_boundary_to_boundary_is_row_by_row(
+            len in 0u64..20_000,
+            last_len in 0usize..200,
+            rows in prop::collection::vec((any::<u64>(), 0usize..6000, any::<bool>()), 0..400),
+        ) {
+            let padded = columns(HEADER);
+            let last_len = last_len.min(len as usize);
+            let mut last = row(0, len).join(",").into_bytes();
+            last.push(b'\n');
+            last.truncate(last_len); // a last row too short to lengthen is also a case
+            let mut text = Vec::new();
+            for &(seed, name, long) in &rows {
+                let mut r = row(1, seed);
+                if long {
+                    r[2] = "n".repeat(name);
+                }
+                text.extend_from_slice(r.join(",").as_bytes());
+                text.push(b'\n');
+            }
+            let mut out = vec![b'x'; 10]; // storage from an earlier write
+            let (at, start) = layout(len, &last, &text, &padded, &mut out);
+            prop_assert_eq!((at, out, start), layout_row_by_row(len, &last, &text, &padded));
         }
     }
 
