@@ -152,10 +152,26 @@ impl CsvWriter {
     /// Writes one step: to `steps.csv` on every `steps_every`-th step, to the other files on every
     /// `every`-th step, both on the last step.
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
-        self.write_step_rows(world, rec).map_err(io_err(&self.dir))
+        self.format_step(world, rec)?;
+        self.commit_step()
     }
 
-    fn write_step_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
+    /// [`CsvWriter::write_step`]'s first half: the step's rows, formatted and not yet written.
+    pub fn format_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
+        self.format_rows(world, rec).map_err(io_err(&self.dir))
+    }
+
+    /// [`CsvWriter::write_step`]'s second half: writes the rows [`CsvWriter::format_step`]
+    /// formatted, `steps.csv` last, so that it never names a step whose state rows are not all
+    /// written.
+    pub fn commit_step(&mut self) -> Result<(), OutputError> {
+        [&mut self.bodies, &mut self.contacts, &mut self.monitors, &mut self.steps, &mut self.log]
+            .into_iter()
+            .try_for_each(RowFile::commit)
+            .map_err(io_err(&self.dir))
+    }
+
+    fn format_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
         let s = rec.step;
         if s.is_multiple_of(self.steps_every) || s == self.last_step {
             self.steps_row(rec)?;
@@ -168,11 +184,6 @@ impl CsvWriter {
         }
         if s.is_multiple_of(self.every) || s == self.last_step {
             self.write_state(world, rec)?;
-        }
-        // steps.csv last: it never names a step whose state rows are not all written
-        for sink in [&mut self.bodies, &mut self.contacts, &mut self.monitors, &mut self.steps, &mut self.log]
-        {
-            sink.commit()?;
         }
         Ok(())
     }
