@@ -4,7 +4,7 @@
 
 mod vi_support;
 
-use pbdda::vi::{BoundRule, Correction, FixedBounds, Options, Problem, Solver};
+use pbdda::vi::{BoundRule, Correction, FixedBounds, Method, Options, Problem, Solver};
 use sprs::CsMat;
 use vi_support::*;
 
@@ -46,16 +46,16 @@ fn correction_comparison() {
 }
 
 /// Serial and parallel sweeps give bit-identical results (reductions are summed per fixed
-/// block in a fixed order). Expected: identical z, reports and counters, for a converged
-/// frictionless solve (tolerance 1e-6) and for a Coulomb QVI stopped by a 2 000-iteration
-/// budget. 3 540 rows: two blocks of 2 048, one per half of `micropool::join`.
+/// block in a fixed order), with PC and with MPRGP (whose every pass runs in halves).
+/// Expected: identical z, reports and counters, for a converged frictionless solve (tolerance
+/// 1e-6) and for a Coulomb QVI stopped by a 2 000-iteration budget. 3 540 rows: two blocks of 2 048, one per half of `micropool::join`.
 #[test]
 fn parallel_equals_serial() {
     let (w, q) = grid_network(30, 30, 11, 0.1);
-    for qvi in [false, true] {
+    for (qvi, method) in [false, true].into_iter().flat_map(|q| [(q, Method::Pc), (q, Method::Mprgp)]) {
         let mut res = Vec::new();
         for par in [usize::MAX, 0] {
-            let mut ws = Solver::new().with_parallel_min_rows(par);
+            let mut ws = Solver::new().with_parallel_min_rows(par).with_method(method);
             let mut z = vec![0.0; q.len()];
             let mut o = opts(1e-6, true);
             let blocks = pairs(q.len());
@@ -66,7 +66,7 @@ fn parallel_equals_serial() {
             } else {
                 ws.solve(&p, &frictionless(q.len()), &mut z, &o)
             };
-            assert_eq!(rep.converged, !qvi, "{rep:?}");
+            assert_eq!(rep.converged, !qvi, "{method:?} {rep:?}");
             res.push((rep, z, ws.stats()));
         }
         assert_eq!(res[0].0, res[1].0);

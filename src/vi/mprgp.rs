@@ -15,8 +15,11 @@
 //!
 //! Vector use (`Vectors`): `y` the iterate, `wy` = Ŵy (kept up to date by the step updates
 //! and recomputed by a full product every [`REFRESH`] iterations and after each expansion),
-//! `yt` the search direction p, `wyt` = Ŵp. The step's own passes are serial: cheap vector
-//! work next to the product and the sweeps, which run on both cores (module docs of `vi`).
+//! `yt` the search direction p, `wyt` = Ŵp. Every pass of an iteration (the measure, the
+//! direction, the product's row loop, the step, the expansion and the cost) runs over the row
+//! blocks of `par.rs`, in two halves from `parallel_min_rows` on, so each core keeps to its own
+//! half of the rows in every pass; sums are reduced in block order (math note §3.3, "MPRGP's
+//! passes in halves").
 
 // NaN-safe `!(a <= b)` tests.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -24,6 +27,7 @@
 use super::Status;
 use super::face::{self, Face};
 use super::measure::{Goal, Measure};
+use super::par::{self, Partial};
 use super::pc::{Ctx, State, Vectors, clip, larger, smaller, stop, sweep, unscale};
 use super::scaling::Rows;
 
@@ -128,44 +132,52 @@ struct Sums {
 /// (`wyt` = Ŵp of the last CG step), in the same order as a pass of its own would sum it.
 fn measure<R: Rows, const RESIDUAL: bool, const CONJ: bool>(
     c: &Ctx<R>,
-    v: &Vectors,
+    v: &mut Vectors,
     st: &mut State,
     abar: f64,
 ) -> Option<Sums> {
-    let (mut res, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
-    let (mut bb, mut ff, mut fap) = (0.0, 0.0, 0.0);
-    // every vector cut to n rows, so that the loop's indexing needs no bounds checks
     let n = v.y.len();
-    let (ys, ylo, yhi, wy, wyt) = (&v.y[..n], &v.ylo[..n], &v.yhi[..n], &v.wy[..n], &v.wyt[..n]);
-    let (zlo, zhi, qs, sc, gs, dd) = (&v.lo[..n], &v.hi[..n], &c.qs[..n], &c.sc[..n], &c.gs[..n], &c.dd[..n]);
-    for i in 0..n {
-        let (y, lo, hi) = (ys[i], ylo[i], yhi[i]);
-        let g = qs[i] + wy[i];
-        if RESIDUAL {
-            let z = unscale(y, lo, hi, zlo[i], zhi[i], sc[i]);
-            let (r, rg) = c.measure.row(z, gs[i] * g, zlo[i], zhi[i], dd[i]);
-            res = larger(r, res);
-            gap = larger(rg, gap);
-            zn = larger(z.abs(), zn);
+    let Vectors { y: ys, ylo, yhi, wy, wyt, lo: zlo, hi: zhi, parts, .. } = v;
+    let (ys, ylo, yhi, wy, wyt, zlo, zhi) =
+        (&ys[..], &ylo[..], &yhi[..], &wy[..], &wyt[..], &zlo[..], &zhi[..]);
+    let (qs, sc, gs, dd) = (c.qs, c.sc, c.gs, c.dd);
+    let t = par::fold(c.par, n, parts, |r0, m| {
+        let (mut res, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+        let (mut bb, mut ff, mut fap) = (0.0, 0.0, 0.0);
+        // the block's rows of every vector, so that the loop's indexing needs no bounds checks
+        let b = || r0..r0 + m;
+        let (ys, ylo, yhi, wy, wyt) = (&ys[b()], &ylo[b()], &yhi[b()], &wy[b()], &wyt[b()]);
+        let (zlo, zhi, qs, sc, gs, dd) = (&zlo[b()], &zhi[b()], &qs[b()], &sc[b()], &gs[b()], &dd[b()]);
+        for i in 0..m {
+            let (y, lo, hi) = (ys[i], ylo[i], yhi[i]);
+            let g = qs[i] + wy[i];
+            if RESIDUAL {
+                let z = unscale(y, lo, hi, zlo[i], zhi[i], sc[i]);
+                let (r, rg) = c.measure.row(z, gs[i] * g, zlo[i], zhi[i], dd[i]);
+                res = larger(r, res);
+                gap = larger(rg, gap);
+                zn = larger(z.abs(), zn);
+            }
+            let b = chopped(y, lo, hi, g);
+            bb += b * b;
+            let f = free(y, lo, hi, g);
+            // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
+            let fr = if f > 0.0 { smaller((y - lo) / abar, f) } else { larger((y - hi) / abar, f) };
+            ff += fr * f;
+            if CONJ {
+                fap += f * wyt[i];
+            }
+            bad += y * 0.0 + g * 0.0;
         }
-        let b = chopped(y, lo, hi, g);
-        bb += b * b;
-        let f = free(y, lo, hi, g);
-        // Reduced free gradient: no longer than the step ᾱ φ that stays in the box.
-        let fr = if f > 0.0 { smaller((y - lo) / abar, f) } else { larger((y - hi) / abar, f) };
-        ff += fr * f;
-        if CONJ {
-            fap += f * wyt[i];
-        }
-        bad += y * 0.0 + g * 0.0;
-    }
+        Partial { s0: bb, s1: ff, s2: fap, s3: bad, m0: res, m1: gap, m2: zn, ..Partial::default() }
+    });
     if RESIDUAL {
-        st.res = Measure::combine(res, gap, zn);
-        st.znorm = zn;
+        st.res = Measure::combine(t.m0, t.m1, t.m2);
+        st.znorm = t.m2;
         st.fresh = true;
         st.last_infeasible = false;
     }
-    (bad == 0.0).then_some(Sums { bb, ff, fap })
+    (t.s3 == 0.0).then_some(Sums { bb: t.s0, ff: t.s1, fap: t.s2 })
 }
 
 /// The next direction p: φ(y), or β(y) for a proportioning step (`Direction::Chopped`), or
@@ -178,63 +190,80 @@ enum Direction {
 }
 
 fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, direction: Direction) {
-    let n = v.y.len();
-    let (y, wy, yt, ylo, yhi) = (&v.y[..n], &v.wy[..n], &mut v.yt[..n], &v.ylo[..n], &v.yhi[..n]);
-    let qs = &c.qs[..n];
-    for i in 0..n {
-        let g = qs[i] + wy[i];
-        yt[i] = match direction {
-            Direction::Free => free(y[i], ylo[i], yhi[i], g),
-            Direction::Chopped => chopped(y[i], ylo[i], yhi[i], g),
-            Direction::Conjugate(gamma) => free(y[i], ylo[i], yhi[i], g) - gamma * yt[i],
-        };
-    }
+    let Vectors { y, wy, yt, ylo, yhi, parts, .. } = v;
+    let (y, wy, ylo, yhi, qs) = (&y[..], &wy[..], &ylo[..], &yhi[..], c.qs);
+    par::run1(c.par, yt, parts, |r0, p| {
+        // the block's rows of every vector, so that the loop's indexing needs no bounds checks
+        let b = || r0..r0 + p.len();
+        let (y, wy, ylo, yhi, qs) = (&y[b()], &wy[b()], &ylo[b()], &yhi[b()], &qs[b()]);
+        for i in 0..p.len() {
+            let f = || free(y[i], ylo[i], yhi[i], qs[i] + wy[i]);
+            p[i] = match direction {
+                Direction::Free => f(),
+                Direction::Chopped => chopped(y[i], ylo[i], yhi[i], qs[i] + wy[i]),
+                Direction::Conjugate(gamma) => f() - gamma * p[i],
+            };
+        }
+        Partial::default()
+    });
 }
 
 /// wyt = Ŵp; returns (pᵀŴp, gᵀp, α_f), α_f the largest step y − αp that stays in the box.
 fn product(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State) -> (f64, f64, f64) {
     st.stats.products += 1;
-    let Vectors { y, wy, yt, wyt, ylo, yhi, tmp, .. } = v;
+    let Vectors { y, wy, yt, wyt, ylo, yhi, tmp, parts, .. } = v;
     c.rows.prepare(yt, wyt, tmp);
-    let (mut pap, mut gp, mut af) = (0.0, 0.0, f64::INFINITY);
-    let n = y.len();
-    let (y, wy, ylo, yhi, wyt, qs) = (&y[..n], &wy[..n], &ylo[..n], &yhi[..n], &mut wyt[..n], &c.qs[..n]);
-    let yt = &yt[..n];
-    for i in 0..n {
-        let p = yt[i];
-        let ap = c.rows.row(i, yt, wyt[i]);
-        wyt[i] = ap;
-        pap += p * ap;
-        gp += (qs[i] + wy[i]) * p;
-        if p > 0.0 {
-            af = smaller((y[i] - ylo[i]) / p, af);
-        } else if p < 0.0 {
-            af = smaller((y[i] - yhi[i]) / p, af);
+    let (y, wy, ylo, yhi, yt, qs) = (&y[..], &wy[..], &ylo[..], &yhi[..], &yt[..], c.qs);
+    let t = par::run1(c.par, wyt, parts, |r0, wo| {
+        let (mut pap, mut gp, mut af) = (0.0, 0.0, f64::INFINITY);
+        let m = wo.len();
+        let b = || r0..r0 + m;
+        let (y, wy, ylo, yhi, p, qs) = (&y[b()], &wy[b()], &ylo[b()], &yhi[b()], &yt[b()], &qs[b()]);
+        for i in 0..m {
+            let ap = c.rows.row(r0 + i, yt, wo[i]);
+            wo[i] = ap;
+            pap += p[i] * ap;
+            gp += (qs[i] + wy[i]) * p[i];
+            if p[i] > 0.0 {
+                af = smaller((y[i] - ylo[i]) / p[i], af);
+            } else if p[i] < 0.0 {
+                af = smaller((y[i] - yhi[i]) / p[i], af);
+            }
         }
-    }
-    (pap, gp, af.max(0.0))
+        Partial { s0: pap, s1: gp, lo: af, ..Partial::default() }
+    });
+    (t.s0, t.s1, t.lo.max(0.0))
 }
 
 /// y −= α p, Ŵy −= α Ŵp.
-fn step(v: &mut Vectors, st: &mut State, alpha: f64) {
+fn step(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State, alpha: f64) {
     st.steps = st.steps.saturating_add(1);
-    let Vectors { y, wy, yt, wyt, ylo, yhi, .. } = v;
-    let n = y.len();
-    let (y, wy, yt, wyt, ylo, yhi) = (&mut y[..n], &mut wy[..n], &yt[..n], &wyt[..n], &ylo[..n], &yhi[..n]);
-    for i in 0..n {
-        y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);
-        wy[i] -= alpha * wyt[i];
-    }
+    let Vectors { y, wy, yt, wyt, ylo, yhi, parts, .. } = v;
+    let (yt, wyt, ylo, yhi) = (&yt[..], &wyt[..], &ylo[..], &yhi[..]);
+    par::run2(c.par, y, wy, parts, |r0, y, wy| {
+        let b = || r0..r0 + y.len();
+        let (yt, wyt, ylo, yhi, wy) = (&yt[b()], &wyt[b()], &ylo[b()], &yhi[b()], &mut wy[..y.len()]);
+        for i in 0..y.len() {
+            y[i] = clip(y[i] - alpha * yt[i], ylo[i], yhi[i]);
+            wy[i] -= alpha * wyt[i];
+        }
+        Partial::default()
+    });
 }
 
 /// Expansion: y = P[y − ᾱ φ(y)], then a full product.
 fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bool {
-    let n = v.y.len();
-    let (ys, ylo, yhi, wy, qs) = (&mut v.y[..n], &v.ylo[..n], &v.yhi[..n], &v.wy[..n], &c.qs[..n]);
-    for i in 0..n {
-        let (y, lo, hi) = (ys[i], ylo[i], yhi[i]);
-        ys[i] = clip(y - abar * free(y, lo, hi, qs[i] + wy[i]), lo, hi);
-    }
+    let Vectors { y, wy, ylo, yhi, parts, .. } = v;
+    let (wy, ylo, yhi, qs) = (&wy[..], &ylo[..], &yhi[..], c.qs);
+    par::run1(c.par, y, parts, |r0, y| {
+        let b = || r0..r0 + y.len();
+        let (wy, ylo, yhi, qs) = (&wy[b()], &ylo[b()], &yhi[b()], &qs[b()]);
+        for i in 0..y.len() {
+            let (lo, hi) = (ylo[i], yhi[i]);
+            y[i] = clip(y[i] - abar * free(y[i], lo, hi, qs[i] + wy[i]), lo, hi);
+        }
+        Partial::default()
+    });
     sweep(c, v, st)
 }
 
@@ -272,10 +301,15 @@ fn expand_step<R: Rows>(
 }
 
 /// f(y) = ½ yᵀŴy + q̂ᵀy from `wy` = Ŵy.
-fn cost<R: Rows>(c: &Ctx<R>, v: &Vectors) -> f64 {
-    let n = v.y.len();
-    let (y, wy, qs) = (&v.y[..n], &v.wy[..n], &c.qs[..n]);
-    (0..n).map(|i| y[i] * (0.5 * wy[i] + qs[i])).sum()
+fn cost<R: Rows>(c: &Ctx<R>, v: &mut Vectors) -> f64 {
+    let Vectors { y, wy, parts, .. } = v;
+    let (y, wy, qs) = (&y[..], &wy[..], c.qs);
+    par::fold(c.par, y.len(), parts, |r0, m| {
+        let b = || r0..r0 + m;
+        let (y, wy, qs) = (&y[b()], &wy[b()], &qs[b()]);
+        Partial { s0: (0..m).map(|i| y[i] * (0.5 * wy[i] + qs[i])).sum(), ..Partial::default() }
+    })
+    .s0
 }
 
 /// When a run's face solves come (math note §4.10).
@@ -381,14 +415,14 @@ pub(super) fn run<R: Rows>(
         }
         if !proportional {
             // Proportioning step, kept inside the box.
-            step(v, st, acg.min(af));
+            step(c, v, st, acg.min(af));
             cg = None;
         } else if acg <= af {
-            step(v, st, acg);
+            step(c, v, st, acg);
             since_refresh += 1;
             cg = Some(pap);
         } else {
-            step(v, st, af);
+            step(c, v, st, af);
             abar = Some(expand_step(c, v, st, step_length)?);
             (since_refresh, cg, swept) = (0, None, true);
         }
