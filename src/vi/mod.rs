@@ -520,6 +520,7 @@ impl Solver {
         mprgp: bool,
     ) -> Report {
         let n = p.q.len();
+        let par = n >= self.parallel_min_rows;
         let csr = p.w.as_csr();
         let explicit = csr.is_some();
         let max_diag = match csr {
@@ -527,11 +528,11 @@ impl Solver {
                 Some(d) => d,
                 None => return self.invalid_input(),
             },
-            None => self.scaling.setup_operator(p.w, opts.jacobi, &mut self.vectors.tmp),
+            None => self.scaling.setup_operator(p.w, opts.jacobi, &mut self.vectors.tmp, par),
         };
         let beta0 = if max_diag > 0.0 && max_diag.is_finite() { 1.0 / max_diag } else { 1.0 };
-        let dq = self.scaling.scale_q(p.q);
-        self.vectors.start(z, &self.scaling.sd);
+        let dq = self.scaling.scale_q(p.q, par);
+        self.vectors.start(z, &self.scaling.sd, par);
         let pass = outer::Pass {
             rule,
             blocks: p.blocks,
@@ -541,7 +542,7 @@ impl Solver {
             dq: dq.max(opts.force_scale),
         };
         let mut st = pc::State::new(beta0);
-        let (s, par) = (&self.scaling, n >= self.parallel_min_rows);
+        let s = &self.scaling;
         let correction = self.correction;
         let measure = measure::Measure::new(opts);
         let v = &mut self.vectors;

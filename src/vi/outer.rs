@@ -148,7 +148,7 @@ fn new_box<R: Rows>(
     p.rule.all_bounds(p.blocks, z, &mut v.lo, &mut v.hi);
 
     let have_prev = st.have_prev;
-    let (change, bmax, same, valid) = scale_box(v, c.sd, have_prev);
+    let (change, bmax, same, valid) = scale_box(v, c.sd, have_prev, c.par);
     let Vectors { lo, hi, lo_prev, hi_prev, ylo, yhi, .. } = &mut *v;
     let sd = c.sd;
     if !valid {
@@ -177,30 +177,40 @@ fn new_box<R: Rows>(
 
 /// The scaled box `ylo, yhi` of `lo, hi`, and the box's largest change against `lo_prev, hi_prev`
 /// (with `have_prev`), its largest finite bound, whether it is bit-identical to the previous one
-/// and whether it is valid (lo <= hi, no infinite bound on the wrong side).
-fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool) -> (f64, f64, bool, bool) {
-    let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
-    // every vector cut to n rows, so that the loop's indexing needs no bounds checks
+/// and whether it is valid (lo <= hi, no infinite bound on the wrong side). In the sweeps' two
+/// halves (`par::join`: maxima and conjunctions, the same in any order).
+fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool, par: bool) -> (f64, f64, bool, bool) {
     let n = v.lo.len();
+    let at = super::par::split(n);
     let (lo, hi, lo_prev, hi_prev) = (&v.lo[..n], &v.hi[..n], &v.lo_prev[..n], &v.hi_prev[..n]);
-    let (ylo, yhi, sd) = (&mut v.ylo[..n], &mut v.yhi[..n], &sd[..n]);
-    for i in 0..n {
-        let (l, h) = (lo[i], hi[i]);
-        valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
-        if l.is_finite() {
-            bmax = larger(l.abs(), bmax);
+    let ((ylo1, ylo2), (yhi1, yhi2)) = (v.ylo[..n].split_at_mut(at), v.yhi[..n].split_at_mut(at));
+    let half = |ylo: &mut [f64], yhi: &mut [f64], first: usize| {
+        let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
+        // every vector cut to the half's rows, so that the loop's indexing needs no bounds checks
+        let b = first..first + ylo.len();
+        let (lo, hi, lo_prev, hi_prev) =
+            (&lo[b.clone()], &hi[b.clone()], &lo_prev[b.clone()], &hi_prev[b.clone()]);
+        let (sd, yhi) = (&sd[b], &mut yhi[..ylo.len()]);
+        for i in 0..ylo.len() {
+            let (l, h) = (lo[i], hi[i]);
+            valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
+            if l.is_finite() {
+                bmax = larger(l.abs(), bmax);
+            }
+            if h.is_finite() {
+                bmax = larger(h.abs(), bmax);
+            }
+            if have_prev {
+                change = larger(bound_diff(h, hi_prev[i]), larger(bound_diff(l, lo_prev[i]), change));
+                same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
+            }
+            ylo[i] = l * sd[i];
+            yhi[i] = h * sd[i];
         }
-        if h.is_finite() {
-            bmax = larger(h.abs(), bmax);
-        }
-        if have_prev {
-            change = larger(bound_diff(h, hi_prev[i]), larger(bound_diff(l, lo_prev[i]), change));
-            same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
-        }
-        ylo[i] = l * sd[i];
-        yhi[i] = h * sd[i];
-    }
-    (change, bmax, same, valid)
+        (change, bmax, same, valid)
+    };
+    let (a, b) = super::par::join(par, || half(ylo1, yhi1, 0), || half(ylo2, yhi2, at));
+    (larger(b.0, a.0), larger(b.1, a.1), a.2 && b.2, a.3 && b.3)
 }
 
 /// z = the unscaled iterate: the warm start itself while y is still it (`State::kept`).

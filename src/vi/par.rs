@@ -69,6 +69,22 @@ where
     reduce(parts)
 }
 
+/// Where the sweeps cut `n` rows into their two halves: at a block boundary.
+pub(super) fn split(n: usize) -> usize {
+    n.div_ceil(BLOCK) / 2 * BLOCK
+}
+
+/// `(a(), b())`, on both cores when `par`: for a pass over the two halves of [`split`] whose
+/// results do not depend on the order of the rows (elementwise work, maxima, counts), so that
+/// each core keeps to the rows it has in its cache from the other passes.
+pub(super) fn join<A: Send, B: Send>(
+    par: bool,
+    a: impl FnOnce() -> A + Send,
+    b: impl FnOnce() -> B + Send,
+) -> (A, B) {
+    if par { micropool::join(a, b) } else { (a(), b()) }
+}
+
 /// Runs `f(first_row, out_block)` over the blocks of `out`, storing each block's partial.
 pub(super) fn run1<F>(par: bool, out: &mut [f64], parts: &mut [Partial], f: F) -> Partial
 where

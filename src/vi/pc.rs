@@ -85,7 +85,7 @@ impl Vectors {
     /// writes the box and sweeps; MPRGP and PC write their directions and products), so its
     /// entries from an earlier call are kept rather than zeroed (3 % of a warm step of the
     /// 1,000-disk pile went to zeroing them).
-    pub fn start(&mut self, z: &[f64], sd: &[f64]) {
+    pub fn start(&mut self, z: &[f64], sd: &[f64], par: bool) {
         let n = z.len();
         for v in [
             &mut self.y,
@@ -107,11 +107,18 @@ impl Vectors {
         }
         self.parts.clear();
         self.parts.resize(n.div_ceil(BLOCK), Partial::default());
-        let (z0, y, sd) = (&mut self.z0[..n], &mut self.y[..n], &sd[..n]);
-        for i in 0..n {
-            z0[i] = z[i];
-            y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
-        }
+        // in the sweeps' two halves (`par::join`)
+        let at = par::split(n);
+        let ((z01, z02), (y1, y2)) = (self.z0[..n].split_at_mut(at), self.y[..n].split_at_mut(at));
+        let half = |z0: &mut [f64], y: &mut [f64], first: usize| {
+            let b = first..first + z0.len();
+            let (z, sd, y) = (&z[b.clone()], &sd[b], &mut y[..z0.len()]);
+            for i in 0..z0.len() {
+                z0[i] = z[i];
+                y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
+            }
+        };
+        par::join(par, || half(z01, y1, 0), || half(z02, y2, at));
     }
 }
 

@@ -121,38 +121,70 @@ impl Scaling {
 
     /// Scaling of a matrix-free W from its diagonal (`diag`: work storage of length n).
     /// Returns max_j Ŵ_jj.
-    pub fn setup_operator(&mut self, w: &dyn Operator, jacobi: bool, diag: &mut Vec<f64>) -> f64 {
+    pub fn setup_operator(&mut self, w: &dyn Operator, jacobi: bool, diag: &mut Vec<f64>, par: bool) -> f64 {
         let n = w.dim();
         self.resize(n, jacobi);
         // (not cleared first: `Operator::diagonal` overwrites every entry)
         diag.resize(n, 0.0);
         w.diagonal(&mut diag[..n]);
-        let mut max_diag: f64 = 0.0;
-        // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
+        // the rows in the sweeps' two halves (`par::join`), each row's factors and the
+        // largest scaled diagonal; the second half's zero rows follow the first's
+        let at = super::par::split(n);
         let (sd, sc, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.dd[..n]);
-        for (i, &d) in diag[..n].iter().enumerate() {
-            if d == 0.0 {
-                self.zero_rows.push(i);
+        let ((sd1, sd2), (sc1, sc2), (dd1, dd2)) =
+            (sd.split_at_mut(at), sc.split_at_mut(at), dd.split_at_mut(at));
+        let (d1, d2) = diag[..n].split_at(at);
+        let zero = &mut self.zero_rows;
+        let mut zero2 = Vec::new();
+        let half = |d: &[f64],
+                    sd: &mut [f64],
+                    sc: &mut [f64],
+                    dd: &mut [f64],
+                    first: usize,
+                    zero: &mut Vec<usize>| {
+            let mut max_diag: f64 = 0.0;
+            // cut to the half's rows, so that the loop's indexing needs no bounds checks
+            let (sd, sc, dd) = (&mut sd[..d.len()], &mut sc[..d.len()], &mut dd[..d.len()]);
+            for (i, &d) in d.iter().enumerate() {
+                if d == 0.0 {
+                    zero.push(first + i);
+                }
+                (sd[i], sc[i], dd[i]) = factors(d, jacobi);
+                max_diag = larger(sc[i] * d * sc[i], max_diag);
             }
-            (sd[i], sc[i], dd[i]) = factors(d, jacobi);
-            max_diag = larger(sc[i] * d * sc[i], max_diag);
-        }
+            max_diag
+        };
+        let (m1, m2) = super::par::join(
+            par,
+            || half(d1, sd1, sc1, dd1, 0, zero),
+            || half(d2, sd2, sc2, dd2, at, &mut zero2),
+        );
+        self.zero_rows.extend(zero2);
         self.set_gs();
-        max_diag
+        larger(m2, m1)
     }
 
-    /// q̂ = sc q; returns max(1, ||D⁻¹q||_inf) (D⁻¹ q = gs q̂ in both modes).
-    pub fn scale_q(&mut self, q: &[f64]) -> f64 {
-        let mut dq: f64 = 0.0;
-        // the vectors cut to n rows, so that the loop's indexing needs no bounds checks
+    /// q̂ = sc q; returns max(1, ||D⁻¹q||_inf) (D⁻¹ q = gs q̂ in both modes). In the sweeps'
+    /// two halves (`par::join`).
+    pub fn scale_q(&mut self, q: &[f64], par: bool) -> f64 {
         let n = q.len();
         let Scaling { jacobi, sc, gs, qs, .. } = self;
-        let (gs, qs, sc) = (&gs_of(*jacobi, sc, gs)[..n], &mut qs[..n], &sc[..n]);
-        for i in 0..n {
-            qs[i] = sc[i] * q[i];
-            dq = larger((gs[i] * qs[i]).abs(), dq);
-        }
-        dq.max(1.0)
+        let (gs, sc) = (&gs_of(*jacobi, sc, gs)[..n], &sc[..n]);
+        let at = super::par::split(n);
+        let (qs1, qs2) = qs[..n].split_at_mut(at);
+        let half = |qs: &mut [f64], first: usize| {
+            let mut dq: f64 = 0.0;
+            // the vectors cut to the half's rows, so that the loop's indexing needs no bounds checks
+            let b = first..first + qs.len();
+            let (q, gs, sc) = (&q[b.clone()], &gs[b.clone()], &sc[b]);
+            for i in 0..qs.len() {
+                qs[i] = sc[i] * q[i];
+                dq = larger((gs[i] * qs[i]).abs(), dq);
+            }
+            dq
+        };
+        let (a, b) = super::par::join(par, || half(qs1, 0), || half(qs2, at));
+        larger(b, a).max(1.0)
     }
 }
 
