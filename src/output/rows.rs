@@ -119,8 +119,8 @@ fn columns(header: &str) -> Vec<bool> {
 
 /// Where and what to write for `rows` after a file of `len` bytes whose last row is `last`:
 /// the bytes go into `out` (cleared first), and `(offset, start of the last row in out)` is
-/// returned. The offset is `len`, or the start of
-/// `last` when that row is lengthened so that the first new row starts at a boundary.
+/// returned. The offset is `len`, or the start of `last` when that row is lengthened so that
+/// the first new row starts at a boundary.
 ///
 /// Only a row that holds a boundary can need work, so the rows are not visited one by one: the
 /// bytes up to the row that holds the next boundary are copied as they are, and that row is
@@ -146,30 +146,38 @@ pub(crate) fn layout(len: u64, last: &[u8], rows: &[u8], padded: &[bool], out: &
         }
         let e = rows[k..].iter().position(|&b| b == b'\n').map_or(rows.len(), |n| k + n + 1);
         let row = &rows[s..e];
-        let start = at + out.len() as u64;
-        let gap = PAGE - start % PAGE; // bytes to the next boundary
-        if !start.is_multiple_of(PAGE) && (row.len() as u64) <= PAGE {
-            let (before, before_start) = match prev {
-                Some(i) => (&out[i..], at + i as u64),
-                None => (last, len - last.len() as u64),
-            };
-            // the row before must lie in the page that ends at the boundary
-            if before_start / PAGE == start / PAGE
-                && let Some(longer) = lengthen(before, gap as usize, padded)
-            {
-                match prev {
-                    Some(i) => out.truncate(i),
-                    None => at = before_start,
-                }
-                out.extend_from_slice(&longer);
-                debug_assert_eq!((at + out.len() as u64) % PAGE, 0);
-            }
+        let gap = PAGE - (at + out.len() as u64) % PAGE; // bytes to the next boundary
+        if (row.len() as u64) > gap && (row.len() as u64) <= PAGE {
+            to_boundary(&mut at, out, prev, (len, last), padded);
         }
         prev = Some(out.len());
         out.extend_from_slice(row);
         i = e;
     }
     (at, prev.unwrap_or(0))
+}
+
+/// Moves the next row to the boundary ahead of `at + out.len()` by lengthening the row before
+/// it (at `prev` in `out`, or the file's last row `file.1`, which ends at `file.0`), if that
+/// row lies in the page that ends at the boundary and has a number to lengthen; `at` moves
+/// back to the start of the file's last row when that one is written again.
+fn to_boundary(at: &mut u64, out: &mut Vec<u8>, prev: Option<usize>, file: (u64, &[u8]), padded: &[bool]) {
+    let start = *at + out.len() as u64;
+    let gap = PAGE - start % PAGE;
+    let (before, before_start) = match prev {
+        Some(i) => (&out[i..], *at + i as u64),
+        None => (file.1, file.0 - file.1.len() as u64),
+    };
+    if before_start / PAGE == start / PAGE
+        && let Some(longer) = lengthen(before, gap as usize, padded)
+    {
+        match prev {
+            Some(i) => out.truncate(i),
+            None => *at = before_start,
+        }
+        out.extend_from_slice(&longer);
+        debug_assert_eq!((*at + out.len() as u64) % PAGE, 0);
+    }
 }
 
 /// Start of the row of `rows` that holds byte `k`, searching back no further than `i` (a row
@@ -358,27 +366,16 @@ mod tests {
         }
     }
 
-    /// The layout rule as the module docs state it, one row at a time: the specification
-    /// [`layout`] hops through.
+    /// The layout rule as the module docs state it, one row at a time: every row that would
+    /// straddle a boundary is moved to it ([`to_boundary`]). The specification [`layout`]
+    /// hops through.
     fn layout_row_by_row(len: u64, last: &[u8], rows: &[u8], padded: &[bool]) -> (u64, Vec<u8>, usize) {
         let (mut at, mut out, mut prev) = (len, Vec::new(), None::<usize>);
         for row in rows.split_inclusive(|&b| b == b'\n') {
             let start = at + out.len() as u64;
             let gap = PAGE - start % PAGE;
             if !start.is_multiple_of(PAGE) && (row.len() as u64) > gap && (row.len() as u64) <= PAGE {
-                let (before, before_start) = match prev {
-                    Some(i) => (&out[i..], at + i as u64),
-                    None => (last, len - last.len() as u64),
-                };
-                if before_start / PAGE == start / PAGE
-                    && let Some(longer) = lengthen(before, gap as usize, padded)
-                {
-                    match prev {
-                        Some(i) => out.truncate(i),
-                        None => at = before_start,
-                    }
-                    out.extend_from_slice(&longer);
-                }
+                to_boundary(&mut at, &mut out, prev, (len, last), padded);
             }
             prev = Some(out.len());
             out.extend_from_slice(row);
