@@ -84,6 +84,7 @@ fn read_vtu(path: &Path) -> (Vec<Array>, usize, usize) {
             "Float64" => block.chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect(),
             "Int32" => block.chunks(4).map(|c| i32::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
             "UInt64" => block.chunks(8).map(|c| u64::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
+            "UInt32" => block.chunks(4).map(|c| u32::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
             "UInt8" => block.iter().map(|&b| b as f64).collect(),
             other => panic!("type {other}"),
         };
