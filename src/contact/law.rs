@@ -104,6 +104,11 @@ impl BoundRule for ContactBounds<'_> {
         }
     }
 
+    /// In the sweeps' two halves: each block's bounds read only z and the laws.
+    fn all_bounds_par(&self, blocks: &[usize], z: &[f64], lo: &mut [f64], hi: &mut [f64], par: bool) {
+        crate::vi::all_bounds_in_halves(self, blocks, z, lo, hi, par);
+    }
+
     /// The bounds as functions of p_n (math note §4.7), the partner's forces frozen at z:
     /// τ = c + μ p_n for p_n > 0 and c (bonded) or 0 for p_n <= 0; rolling δ max(p_n, 0).
     fn block_law(&self, k: usize, z: &[f64]) -> Option<BlockLaw> {

@@ -128,6 +128,7 @@ mod tests_mprgp;
 pub use method::Method;
 pub use nsgs::STALL_SWEEPS;
 pub use operator::Operator;
+pub use par::all_bounds_in_halves;
 
 /// G(z) = q + W z, with the rows grouped in per-contact blocks: block k is rows
 /// `blocks[k]..blocks[k+1]` (`blocks.len()` = number of blocks + 1, `blocks[0] = 0`, last =
@@ -157,12 +158,19 @@ pub trait BoundRule {
     /// its first box without asking again, `outer::new_box`).
     fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]);
 
-    /// Bounds of every block (lo, hi of full length). The solver calls this once per pass;
-    /// the default calls [`Self::block_bounds`] for each block in order.
+    /// Bounds of every block (lo, hi of full length). The default calls
+    /// [`Self::block_bounds`] for each block in order.
     fn all_bounds(&self, blocks: &[usize], z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
         for (k, b) in blocks.windows(2).enumerate() {
             self.block_bounds(k, z, &mut lo[b[0]..b[1]], &mut hi[b[0]..b[1]]);
         }
+    }
+
+    /// [`Self::all_bounds`], which the solver calls once per pass through this method: a rule
+    /// that can run on both cores may fill the blocks of the sweeps' two halves at once when
+    /// `par` ([`all_bounds_in_halves`]), giving the same bounds. The default calls `all_bounds`.
+    fn all_bounds_par(&self, blocks: &[usize], z: &[f64], lo: &mut [f64], hi: &mut [f64], _par: bool) {
+        self.all_bounds(blocks, z, lo, hi);
     }
 
     /// The bounds of block k in closed form as functions of its own first row, with every

@@ -145,7 +145,7 @@ fn new_box<R: Rows>(
         std::mem::swap(&mut v.lo, &mut v.lo_prev);
         std::mem::swap(&mut v.hi, &mut v.hi_prev);
     }
-    p.rule.all_bounds(p.blocks, z, &mut v.lo, &mut v.hi);
+    p.rule.all_bounds_par(p.blocks, z, &mut v.lo, &mut v.hi, c.par);
 
     let have_prev = st.have_prev;
     let (change, bmax, same, valid) = scale_box(v, c.sd, have_prev, c.par);

@@ -9,6 +9,8 @@
 //! itself; with rayon the 10,000-disk pile's warm step was slower than with no second core at
 //! all.
 
+use super::BoundRule;
+
 /// Rows per block of every sweep.
 pub(super) const BLOCK: usize = 2048;
 
@@ -83,6 +85,32 @@ pub(super) fn join<A: Send, B: Send>(
     b: impl FnOnce() -> B + Send,
 ) -> (A, B) {
     if par { micropool::join(a, b) } else { (a(), b()) }
+}
+
+/// [`BoundRule::all_bounds`] of a `Sync` rule over the blocks of the sweeps' two halves (the
+/// block that holds their cut row starts the second), one per core when `par`: the bounds of
+/// each block are those of `block_bounds`, in any order.
+pub fn all_bounds_in_halves<R: BoundRule + Sync + ?Sized>(
+    rule: &R,
+    blocks: &[usize],
+    z: &[f64],
+    lo: &mut [f64],
+    hi: &mut [f64],
+    par: bool,
+) {
+    if blocks.is_empty() {
+        return;
+    }
+    let k = blocks.partition_point(|&b| b < split(lo.len())).min(blocks.len() - 1);
+    let (lo1, lo2) = lo.split_at_mut(blocks[k]);
+    let (hi1, hi2) = hi.split_at_mut(blocks[k]);
+    let half = |k0: usize, blocks: &[usize], base: usize, lo: &mut [f64], hi: &mut [f64]| {
+        for (j, b) in blocks.windows(2).enumerate() {
+            let (a, e) = (b[0] - base, b[1] - base);
+            rule.block_bounds(k0 + j, z, &mut lo[a..e], &mut hi[a..e]);
+        }
+    };
+    join(par, || half(0, &blocks[..=k], 0, lo1, hi1), || half(k, &blocks[k..], blocks[k], lo2, hi2));
 }
 
 /// Runs `f(first_row, out_block)` over the blocks of `out`, storing each block's partial.
@@ -196,5 +224,37 @@ mod tests {
         assert_eq!(got[0], got[1]);
         assert_eq!(f64::from_bits(got[0].0), (n * (n + 1) / 2) as f64);
         assert_eq!(f64::from_bits(got[0].1), 1.0);
+    }
+
+    /// `all_bounds_in_halves` gives every block the bounds `all_bounds` gives it, serial or on
+    /// both cores: blocks of 1–3 rows (5,001 rows, so the cut of the halves falls inside the
+    /// rows), bounds that depend on the block's index, its rows and z. Expected: bit-identical
+    /// lo and hi, every row set.
+    #[test]
+    fn bounds_in_halves_are_the_serial_bounds() {
+        struct Indexed;
+        impl BoundRule for Indexed {
+            fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+                for (i, (l, h)) in lo.iter_mut().zip(hi.iter_mut()).enumerate() {
+                    *l = -(k as f64) - 0.25 * i as f64 - z[k % z.len()];
+                    *h = k as f64 + 0.5 * i as f64 + z[k % z.len()];
+                }
+            }
+        }
+        let mut blocks = vec![0];
+        while *blocks.last().unwrap() < 5001 {
+            let next = blocks.last().unwrap() + 1 + blocks.len() % 3;
+            blocks.push(next.min(5001));
+        }
+        let z: Vec<f64> = (0..5001).map(|i| (i as f64).sin()).collect();
+        let (mut lo, mut hi) = (vec![f64::NAN; 5001], vec![f64::NAN; 5001]);
+        Indexed.all_bounds(&blocks, &z, &mut lo, &mut hi);
+        for par in [false, true] {
+            let (mut l2, mut h2) = (vec![f64::NAN; 5001], vec![f64::NAN; 5001]);
+            all_bounds_in_halves(&Indexed, &blocks, &z, &mut l2, &mut h2, par);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!((bits(&lo), bits(&hi)), (bits(&l2), bits(&h2)), "par {par}");
+        }
+        assert!(lo.iter().chain(&hi).all(|x| x.is_finite()));
     }
 }
