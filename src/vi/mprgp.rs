@@ -197,11 +197,11 @@ fn set_direction(c: &Ctx<impl Rows>, v: &mut Vectors, direction: Direction) {
         let b = || r0..r0 + p.len();
         let (y, wy, ylo, yhi, qs) = (&y[b()], &wy[b()], &ylo[b()], &yhi[b()], &qs[b()]);
         for i in 0..p.len() {
-            let f = || free(y[i], ylo[i], yhi[i], qs[i] + wy[i]);
+            let (yi, lo, hi, g) = (y[i], ylo[i], yhi[i], qs[i] + wy[i]);
             p[i] = match direction {
-                Direction::Free => f(),
-                Direction::Chopped => chopped(y[i], ylo[i], yhi[i], qs[i] + wy[i]),
-                Direction::Conjugate(gamma) => f() - gamma * p[i],
+                Direction::Free => free(yi, lo, hi, g),
+                Direction::Chopped => chopped(yi, lo, hi, g),
+                Direction::Conjugate(gamma) => free(yi, lo, hi, g) - gamma * p[i],
             };
         }
         Partial::default()

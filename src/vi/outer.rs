@@ -177,23 +177,23 @@ fn new_box<R: Rows>(
 
 /// The scaled box `ylo, yhi` of `lo, hi`, and the box's largest change against `lo_prev, hi_prev`
 /// (with `have_prev`), its largest finite bound, whether it is bit-identical to the previous one
-/// and whether it is valid (lo <= hi, no infinite bound on the wrong side). In the sweeps' two
-/// halves (`par::join`: maxima and conjunctions, the same in any order).
+/// and whether it is valid (lo <= hi, no infinite bound on the wrong side). Over the sweeps'
+/// blocks (maxima and counts, the same in any order).
 fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool, par: bool) -> (f64, f64, bool, bool) {
     let n = v.lo.len();
-    let at = super::par::split(n);
-    let (lo, hi, lo_prev, hi_prev) = (&v.lo[..n], &v.hi[..n], &v.lo_prev[..n], &v.hi_prev[..n]);
-    let ((ylo1, ylo2), (yhi1, yhi2)) = (v.ylo[..n].split_at_mut(at), v.yhi[..n].split_at_mut(at));
-    let half = |ylo: &mut [f64], yhi: &mut [f64], first: usize| {
-        let (mut change, mut bmax, mut same, mut valid) = (0.0f64, 0.0f64, have_prev, true);
-        // every vector cut to the half's rows, so that the loop's indexing needs no bounds checks
-        let b = first..first + ylo.len();
-        let (lo, hi, lo_prev, hi_prev) =
-            (&lo[b.clone()], &hi[b.clone()], &lo_prev[b.clone()], &hi_prev[b.clone()]);
-        let (sd, yhi) = (&sd[b], &mut yhi[..ylo.len()]);
+    let Vectors { lo, hi, lo_prev, hi_prev, ylo, yhi, parts, .. } = v;
+    let (lo, hi, lo_prev, hi_prev) = (&lo[..n], &hi[..n], &lo_prev[..n], &hi_prev[..n]);
+    let t = super::par::run2(par, &mut ylo[..n], &mut yhi[..n], parts, |r0, ylo, yhi| {
+        let (mut change, mut bmax, mut differ, mut invalid) = (0.0f64, 0.0f64, 0.0, 0.0);
+        // every vector cut to the block's rows, so that the loop's indexing needs no bounds checks
+        let b = || r0..r0 + ylo.len();
+        let (lo, hi, lo_prev, hi_prev, sd) = (&lo[b()], &hi[b()], &lo_prev[b()], &hi_prev[b()], &sd[b()]);
+        let yhi = &mut yhi[..ylo.len()];
         for i in 0..ylo.len() {
             let (l, h) = (lo[i], hi[i]);
-            valid &= l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY;
+            if !(l <= h && l < f64::INFINITY && h > f64::NEG_INFINITY) {
+                invalid += 1.0;
+            }
             if l.is_finite() {
                 bmax = larger(l.abs(), bmax);
             }
@@ -202,15 +202,16 @@ fn scale_box(v: &mut Vectors, sd: &[f64], have_prev: bool, par: bool) -> (f64, f
             }
             if have_prev {
                 change = larger(bound_diff(h, hi_prev[i]), larger(bound_diff(l, lo_prev[i]), change));
-                same &= l.to_bits() == lo_prev[i].to_bits() && h.to_bits() == hi_prev[i].to_bits();
+                if l.to_bits() != lo_prev[i].to_bits() || h.to_bits() != hi_prev[i].to_bits() {
+                    differ += 1.0;
+                }
             }
             ylo[i] = l * sd[i];
             yhi[i] = h * sd[i];
         }
-        (change, bmax, same, valid)
-    };
-    let (a, b) = super::par::join(par, || half(ylo1, yhi1, 0), || half(ylo2, yhi2, at));
-    (larger(b.0, a.0), larger(b.1, a.1), a.2 && b.2, a.3 && b.3)
+        super::par::Partial { m0: change, m1: bmax, s0: differ, s1: invalid, ..Default::default() }
+    });
+    (t.m0, t.m1, have_prev && t.s0 == 0.0, t.s1 == 0.0)
 }
 
 /// z = the unscaled iterate: the warm start itself while y is still it (`State::kept`).

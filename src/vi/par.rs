@@ -61,13 +61,9 @@ where
         }
     };
     let parts = &mut parts[..n.div_ceil(BLOCK)];
-    if par {
-        let half = parts.len() / 2;
-        let (p1, p2) = parts.split_at_mut(half);
-        micropool::join(|| blocks(0, p1), || blocks(half, p2));
-    } else {
-        blocks(0, parts);
-    }
+    let half = split(n) / BLOCK;
+    let (p1, p2) = parts.split_at_mut(half);
+    join(par, || blocks(0, p1), || blocks(half, p2));
     reduce(parts)
 }
 
@@ -76,9 +72,9 @@ pub(super) fn split(n: usize) -> usize {
     n.div_ceil(BLOCK) / 2 * BLOCK
 }
 
-/// `(a(), b())`, on both cores when `par`: for a pass over the two halves of [`split`] whose
-/// results do not depend on the order of the rows (elementwise work, maxima, counts), so that
-/// each core keeps to the rows it has in its cache from the other passes.
+/// `(a(), b())`: on both cores when `par`, else `a` then `b`. Every pass over the rows runs its
+/// two halves of [`split`] through it, so each core keeps to the rows it has in its cache from
+/// the other passes; a pass whose halves reduce (sums) combines them in block order after it.
 pub(super) fn join<A: Send, B: Send>(
     par: bool,
     a: impl FnOnce() -> A + Send,
@@ -98,8 +94,9 @@ pub fn all_bounds_in_halves<R: BoundRule + Sync + ?Sized>(
     hi: &mut [f64],
     par: bool,
 ) {
-    if blocks.is_empty() {
-        return;
+    if !par || blocks.is_empty() {
+        // the same bounds (a test checks it), by the rule's own loop over its blocks
+        return rule.all_bounds(blocks, z, lo, hi);
     }
     let k = blocks.partition_point(|&b| b < split(lo.len())).min(blocks.len() - 1);
     let (lo1, lo2) = lo.split_at_mut(blocks[k]);
@@ -123,14 +120,11 @@ where
             *p = f(r0 + b * BLOCK, o);
         }
     };
-    if par {
-        let half = parts.len() / 2;
-        let (o1, o2) = out.split_at_mut(half * BLOCK);
-        let (p1, p2) = parts.split_at_mut(half);
-        micropool::join(|| blocks(0, o1, p1), || blocks(half * BLOCK, o2, p2));
-    } else {
-        blocks(0, out, parts);
-    }
+    let parts = &mut parts[..out.len().div_ceil(BLOCK)];
+    let at = split(out.len());
+    let (o1, o2) = out.split_at_mut(at);
+    let (p1, p2) = parts.split_at_mut(at / BLOCK);
+    join(par, || blocks(0, o1, p1), || blocks(at, o2, p2));
     reduce(parts)
 }
 
@@ -146,15 +140,11 @@ where
             *p = f(r0 + b * BLOCK, a, c);
         }
     };
-    if par {
-        let half = parts.len() / 2;
-        let (a1, a2) = o1.split_at_mut(half * BLOCK);
-        let (c1, c2) = o2.split_at_mut(half * BLOCK);
-        let (p1, p2) = parts.split_at_mut(half);
-        micropool::join(|| blocks(0, a1, c1, p1), || blocks(half * BLOCK, a2, c2, p2));
-    } else {
-        blocks(0, o1, o2, parts);
-    }
+    let parts = &mut parts[..o1.len().div_ceil(BLOCK)];
+    let at = split(o1.len());
+    let ((a1, a2), (c1, c2)) = (o1.split_at_mut(at), o2.split_at_mut(at));
+    let (p1, p2) = parts.split_at_mut(at / BLOCK);
+    join(par, || blocks(0, a1, c1, p1), || blocks(at, a2, c2, p2));
     reduce(parts)
 }
 

@@ -107,18 +107,16 @@ impl Vectors {
         }
         self.parts.clear();
         self.parts.resize(n.div_ceil(BLOCK), Partial::default());
-        // in the sweeps' two halves (`par::join`)
-        let at = par::split(n);
-        let ((z01, z02), (y1, y2)) = (self.z0[..n].split_at_mut(at), self.y[..n].split_at_mut(at));
-        let half = |z0: &mut [f64], y: &mut [f64], first: usize| {
-            let b = first..first + z0.len();
+        let (z0, y) = (&mut self.z0[..n], &mut self.y[..n]);
+        par::run2(par, z0, y, &mut self.parts, |r0, z0, y| {
+            let b = r0..r0 + z0.len();
             let (z, sd, y) = (&z[b.clone()], &sd[b], &mut y[..z0.len()]);
             for i in 0..z0.len() {
                 z0[i] = z[i];
                 y[i] = if z[i].is_finite() { z[i] * sd[i] } else { 0.0 };
             }
-        };
-        par::join(par, || half(z01, y1, 0), || half(z02, y2, at));
+            Partial::default()
+        });
     }
 }
 
