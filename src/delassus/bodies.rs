@@ -266,13 +266,17 @@ impl BodyPart {
         (count, if splits { split } else { 0 })
     }
 
-    /// out += W_bodies z.
-    pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
+    /// out += W_bodies z, or out = W_bodies z with `clear`.
+    pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64], clear: bool) {
         let all = jac.segments();
         if self.count == all.len() && self.split > 0 {
             // (a split is found only from HALVES_FROM segments on)
-            self.halves(jac, z, out);
-        } else if self.count == all.len() {
+            return self.halves(jac, z, out, clear);
+        }
+        if clear {
+            out.fill(0.0);
+        }
+        if self.count == all.len() {
             // a scene of single bodies: no filter, which would cost each product a load per
             // segment
             self.product(jac, all.iter(), true, z, out);
@@ -326,8 +330,9 @@ impl BodyPart {
     /// B's segments whose rows do not overlap (`split`): each half's generalized forces u and
     /// its rows' products on a core of its own, and half the bodies' solves on each. Each half
     /// sums into its own u, and a body adds the two, so that no sum depends on the threads
-    /// that ran it (one thread gives the same bits).
-    fn halves(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) {
+    /// that ran it (one thread gives the same bits). With `clear`, each half first clears its
+    /// rows of `out`.
+    fn halves(&self, jac: &Jacobian, z: &[f64], out: &mut [f64], clear: bool) {
         let Blocks { start, dofs: n, .. } = &*self.blocks;
         let n = *n;
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
@@ -351,7 +356,13 @@ impl BodyPart {
         );
         let (v, row) = (&*v, second[0].row());
         let (o1, o2) = out.split_at_mut(row);
-        micropool::join(|| gather(jac, first, v, o1, 0), || gather(jac, second, v, o2, row));
+        let gather = |segs, out: &mut [f64], offset| {
+            if clear {
+                out.fill(0.0);
+            }
+            gather(jac, segs, v, out, offset);
+        };
+        micropool::join(|| gather(first, o1, 0), || gather(second, o2, row));
     }
 
     /// v[start_b - offset..] = K̃_b⁻¹ (u1 + u2)[start_b..] for the bodies b of `bodies`.

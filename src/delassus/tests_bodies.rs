@@ -12,7 +12,9 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 /// body). With contact 0 pushed last, rows 0 and 1 come after every cut: no split, and the
 /// serial product runs. Both products equal the assembled W's to 1e-12 of the largest
 /// |W z| (the same terms summed in another order), and give the same bits on one thread and
-/// on two (the calling thread with one micropool worker: the determinism contract).
+/// on two (the calling thread with one micropool worker: the determinism contract). Cleared
+/// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
+/// added to.
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
@@ -48,14 +50,17 @@ fn products_split_only_where_no_row_straddles() {
         let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows]);
         assert_eq!(part.split, split);
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
-        let on = |threads: usize| {
+        // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
+        let on = |threads: usize, clear: bool| {
             let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
-            let mut out = vec![0.0; jac.rows];
-            pool.install(|| part.apply(&jac, &z, &mut out));
+            let mut out = vec![if clear { f64::NAN } else { 0.0 }; jac.rows];
+            pool.install(|| part.apply(&jac, &z, &mut out, clear));
             out
         };
-        let (got, w) = (on(2), super::super::assemble(&jac, &flex, &map));
-        assert!(on(1).iter().zip(&got).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split}: threads");
+        let (got, w) = (on(2, false), super::super::assemble(&jac, &flex, &map));
+        let same = |a: &[f64]| a.iter().zip(&got).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(same(&on(1, false)), "split {split}: threads");
+        assert!(same(&on(1, true)) && same(&on(2, true)), "split {split}: clearing");
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
         let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         for r in 0..jac.rows {

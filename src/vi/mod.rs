@@ -559,7 +559,7 @@ impl Solver {
             let rows = scaling::Csr { rowptr: &s.rowptr, cols: &s.cols, vals: &s.vals };
             outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, step)
         } else {
-            let rows = scaling::Scaled { w: p.w, sc: &s.sc };
+            let rows = scaling::Scaled { w: p.w, sc: &s.sc, par };
             outer_run(pc::Ctx::new(rows, s, par, correction, measure), &pass, v, &mut st, z, step)
         };
         if known.is_some() {

@@ -73,7 +73,7 @@ pub(super) struct Vectors {
     pub z0: Vec<f64>,
     /// Scratch for matrix-free products.
     pub tmp: Vec<f64>,
-    /// y and Ŵy before an MPRGP expansion with a guessed step length (`mprgp::expand_step`).
+    /// y and Ŵy before the last MPRGP expansion (`mprgp::expand`; swapped with `y` and `wy`).
     pub y_before: Vec<f64>,
     pub wy_before: Vec<f64>,
     pub parts: Vec<Partial>,

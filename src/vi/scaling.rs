@@ -7,6 +7,7 @@
 //! vectors around each product. [`Rows`] gives the sweeps one interface to both.
 
 use super::Operator;
+use super::par;
 use super::pc::larger;
 use sprs::CsMatView;
 
@@ -266,6 +267,8 @@ impl Rows for Csr<'_> {
 pub(super) struct Scaled<'a> {
     pub w: &'a dyn Operator,
     pub sc: &'a [f64],
+    /// Scale in the sweeps' two halves, one per core (`par.rs`).
+    pub par: bool,
 }
 
 impl Rows for Scaled<'_> {
@@ -276,10 +279,18 @@ impl Rows for Scaled<'_> {
             .then(|| super::mprgp::Bound::Operator(tmp.iter().copied().fold(0.0, f64::max)))
     }
 
+    /// tmp = sc ∘ x (in the sweeps' halves: on one core it was 2.8 % of a warm step of the
+    /// 40,000-disk pile, perf), then out = W tmp.
     fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]) {
-        for ((t, &xi), &s) in tmp.iter_mut().zip(x).zip(self.sc) {
-            *t = s * xi;
-        }
+        let scale = |r0: usize, t: &mut [f64]| {
+            let (x, sc) = (&x[r0..r0 + t.len()], &self.sc[r0..r0 + t.len()]);
+            for i in 0..t.len() {
+                t[i] = sc[i] * x[i];
+            }
+        };
+        let (t1, t2) = tmp[..x.len()].split_at_mut(par::split(x.len()));
+        let at = t1.len();
+        par::join(self.par, || scale(0, t1), || scale(at, t2));
         self.w.apply(tmp, out);
     }
 
