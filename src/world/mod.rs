@@ -218,7 +218,7 @@ impl World {
         }
         self.allowance = self.gap_accuracy(&solved);
         self.update_connectors(&motion.dbar);
-        self.update(&motion, dt);
+        let kinetic_energy = self.update(&motion, dt);
         self.time = t1;
         self.started = true;
         if let Some(trouble) = may_penetrate.then(|| self.new_penetration(&contacts, threshold)).flatten() {
@@ -243,7 +243,7 @@ impl World {
             inner_iterations: solved.report.inner_iterations,
             residual: solved.report.residual,
             converged: solved.report.converged,
-            kinetic_energy: self.bodies.iter().map(Body::kinetic_energy).sum(),
+            kinetic_energy,
             wall_seconds: started.elapsed().as_secs_f64(),
             stages,
             warnings,

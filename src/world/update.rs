@@ -38,8 +38,10 @@ impl World {
     }
 
     /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
-    /// the next step starts from k v1 (see [`Self::v0`]).
-    pub(super) fn update(&mut self, m: &Motion, dt: f64) {
+    /// the next step starts from k v1 (see [`Self::v0`]). Returns the bodies' kinetic energy
+    /// after it, summed in body order while each body is at hand (a pass of its own over the
+    /// bodies cost 0.25 ms of a warm step of the 10,000-disk pile, perf).
+    pub(super) fn update(&mut self, m: &Motion, dt: f64) -> f64 {
         self.keep(Part::Bodies);
         // a body's d̄ (none for a mesh, which moves by its nodes); gathered where it is used, not
         // into a table per body, as v0 (the two tables cost 5 µs of a warm step of the 1,000-disk
@@ -62,23 +64,26 @@ impl World {
             }
         }
         let v0_scale = self.v0_scale();
+        let mut kinetic = 0.0;
         for (b, body) in self.bodies.iter_mut().enumerate() {
             if body.mesh.is_some() {
                 let r = dofs.range(b);
                 body.apply_mesh_step(&m.dbar[r.clone()], &m.dvel[r], v0_scale, dt);
-                continue;
+            } else {
+                let v0 = body.velocity * v0_scale;
+                body.apply_increment(&dbar(b, body));
+                if !body.fixed {
+                    body.velocity = dofs.gather(&m.dvel, b) * (2.0 / dt) - v0;
+                }
             }
-            let v0 = body.velocity * v0_scale;
-            body.apply_increment(&dbar(b, body));
-            if !body.fixed {
-                body.velocity = dofs.gather(&m.dvel, b) * (2.0 / dt) - v0;
-            }
+            kinetic += body.kinetic_energy();
         }
         for (p, h) in self.load_points.iter_mut().chain(self.monitors.iter_mut()).zip(held) {
             if let (Some((e, l)), Some(fe)) = (h, &self.bodies[p.body].mesh) {
                 p.current = fe.triangles[e].iter().zip(l).map(|(&n, w)| fe.nodes[n] * w).sum();
             }
         }
+        kinetic
     }
 
     /// Bonded contacts that reached their tensile share and opened in solve 1: broken for
