@@ -123,7 +123,7 @@ impl World {
         let threshold = self.threshold.max(2.5 * u_max);
         let shapes = self.shapes();
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
-        let (geoms, order) = detect_in_order(&shapes, pairs, threshold, self.threshold);
+        let geoms = detect_in_order(&shapes, pairs, threshold, self.threshold);
         let any_mesh = meshes.contains(&true);
         let interfaces = InterfaceTable::new(&self.model.interfaces, self.model.materials.len());
         // one pass over the detected contacts, in key order, which makes all the solve reads of
@@ -131,7 +131,7 @@ impl World {
         // warm step of the 10,000-disk pile); joint partners after it, if any
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
-        let n = geoms.len();
+        let n = geoms.halves.iter().map(Vec::len).sum();
         let mut found = Detected { contacts: Vec::with_capacity(n), brief: Vec::with_capacity(n) };
         let (mut warm, mut laws, mut lin) =
             (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n));
@@ -156,9 +156,9 @@ impl World {
             found.contacts.push(c);
         };
         // as found when that is key order (no indices), else through the indices
-        match order {
-            None => geoms.into_iter().for_each(&mut add),
-            Some(order) => order.into_iter().for_each(|k| add(geoms[k].clone())),
+        match geoms.order {
+            None => geoms.halves.into_iter().flatten().for_each(&mut add),
+            Some(order) => order.into_iter().for_each(|k| add(geoms.halves[0][k].clone())),
         }
         if joints {
             let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
