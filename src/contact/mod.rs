@@ -163,7 +163,7 @@ pub fn detect_in(
     reach: f64,
     depth: f64,
 ) -> Vec<ContactGeom> {
-    let found = detect_in_order(shapes, pairs, reach, depth);
+    let found = detect_in_order(shapes, &pairs, reach, depth);
     match found.order {
         None => found.halves.into_iter().flatten().collect(),
         Some(order) => order.into_iter().map(|k| found.halves[0][k].clone()).collect(),
@@ -195,11 +195,11 @@ pub(crate) struct InOrder {
 /// copied onto the end of the other.
 pub(crate) fn detect_in_order(
     shapes: &[BodyShape],
-    pairs: Vec<(usize, usize)>,
+    pairs: &[(usize, usize)],
     reach: f64,
     depth: f64,
 ) -> InOrder {
-    in_order(shapes, &pairs, reach, depth, HALVES_FROM)
+    in_order(shapes, pairs, reach, depth, HALVES_FROM)
 }
 
 /// [`detect_in_order`], in halves from `halves_from` pairs on.
@@ -272,7 +272,7 @@ mod tests {
             let mut fixed = vec![false; shapes.len()];
             fixed[0] = true;
             let pairs = broad::candidate_pairs(shapes, &fixed, 0.1);
-            let InOrder { halves: [found, rest], order } = detect_in_order(shapes, pairs, 0.1, 0.1);
+            let InOrder { halves: [found, rest], order } = detect_in_order(shapes, &pairs, 0.1, 0.1);
             assert!(rest.is_empty(), "a few pairs are one half");
             let mut expected = found.clone();
             expected.sort_by_key(|c| c.key);

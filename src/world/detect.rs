@@ -123,7 +123,7 @@ impl World {
         let threshold = self.threshold.max(2.5 * u_max);
         let shapes = self.shapes();
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
-        let geoms = detect_in_order(&shapes, pairs, threshold, self.threshold);
+        let geoms = detect_in_order(&shapes, &pairs, threshold, self.threshold);
         let any_mesh = meshes.contains(&true);
         let interfaces = InterfaceTable::new(&self.model.interfaces, self.model.materials.len());
         // one pass over the detected contacts, in key order, which makes all the solve reads of
