@@ -252,10 +252,9 @@ fn step(c: &Ctx<impl Rows>, v: &mut Vectors, st: &mut State, alpha: f64) {
 }
 
 /// Expansion: y = P[y − ᾱ φ(y)], then a full product. The y and Ŵy it started from are kept in
-/// `y_before` and `wy_before` (the vectors' storage swapped, not copied: [`undo_expansion`]).
+/// `y_before` and `wy_before` (the vectors' storage swapped, not copied: [`swap_before`]).
 fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bool {
-    std::mem::swap(&mut v.y, &mut v.y_before);
-    std::mem::swap(&mut v.wy, &mut v.wy_before);
+    swap_before(v);
     let Vectors { y, y_before: y0, wy_before: wy, ylo, yhi, parts, .. } = v;
     let (y0, wy, ylo, yhi, qs) = (&y0[..], &wy[..], &ylo[..], &yhi[..], c.qs);
     par::run1(c.par, y, parts, |r0, y| {
@@ -270,8 +269,9 @@ fn expand<R: Rows>(c: &Ctx<R>, v: &mut Vectors, st: &mut State, abar: f64) -> bo
     sweep(c, v, st)
 }
 
-/// y and Ŵy back to what the last [`expand`] started from.
-fn undo_expansion(v: &mut Vectors) {
+/// Swaps y and Ŵy with `y_before` and `wy_before`: before an [`expand`], which then writes the
+/// new y from the old; after one, to undo it.
+fn swap_before(v: &mut Vectors) {
     std::mem::swap(&mut v.y, &mut v.y_before);
     std::mem::swap(&mut v.wy, &mut v.wy_before);
 }
@@ -303,7 +303,7 @@ fn expand_step<R: Rows>(
     if expand(c, v, st, guess) && cost(c, v) <= before {
         return Ok(guess);
     }
-    undo_expansion(v);
+    swap_before(v);
     let a = length.exact(c, v, st);
     expanded(v, st, a)
 }
