@@ -17,6 +17,7 @@ use crate::body::MAX_DOF;
 use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment, dot, dot_n, range_n, range_n_mut};
+use std::ops::Range;
 use std::sync::{Arc, Mutex};
 
 /// A cluster's entry in `BodyPart::compact` when it is not in body form.
@@ -138,13 +139,24 @@ pub(super) struct BodyPart {
 }
 
 impl BodyPart {
-    /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`.
+    /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`: from
+    /// [`HALVES_FROM`] segments on, over the products' two halves (`split`), one per core, when
+    /// B has them (their rows are apart, so each half adds to its own rows).
     pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
         let mut part = BodyPart { blocks, ..Default::default() };
-        (part.count, part.split) = if jac.segments().len() >= HALVES_FROM {
-            part.add_diagonal::<true>(jac, diagonal)
+        let all = jac.segments();
+        part.split = if all.len() >= HALVES_FROM { split_of(all) } else { 0 };
+        part.count = if part.split > 0 {
+            let (at, row) = (part.split, all[part.split].row());
+            let (d1, d2) = diagonal.split_at_mut(row);
+            let part = &part;
+            let (a, b) = micropool::join(
+                || part.add_diagonal(jac, 0..at, d1, 0),
+                || part.add_diagonal(jac, at..all.len(), d2, row),
+            );
+            a + b
         } else {
-            part.add_diagonal::<false>(jac, diagonal)
+            part.add_diagonal(jac, 0..all.len(), diagonal, 0)
         };
         part
     }
@@ -208,16 +220,15 @@ impl BodyPart {
         dot(jac.vals(s), &v[local..local + s.width()])
     }
 
-    /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ: each segment's s K̃⁻¹ sᵀ, plus twice its
-    /// products with the earlier segments of its row on its body (found through a chain per row).
-    /// A rigid body's segment (3 DOFs, the whole body) is its body's only one in its row, since a
-    /// contact joins two bodies: it neither walks nor joins the chains, whose links are made on
-    /// the first other segment (a pile of rigid disks makes none). With its K̃⁻¹ found by one
-    /// load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the 1,000-disk pile.
-    /// Returns the number of segments on body-form clusters and, with `SPLIT`, the split of B's
-    /// segments into halves (`BodyPart::split`, else 0), found in the same pass (its tests cost
-    /// 18 instructions a segment, 2 % of a warm step of the 1,000-disk pile, which never splits).
-    fn add_diagonal<const SPLIT: bool>(&self, jac: &Jacobian, diagonal: &mut [f64]) -> (usize, usize) {
+    /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ over B's segments `segs`, whose rows
+    /// are those of `diagonal`, which starts at row `row0`: each segment's s K̃⁻¹ sᵀ, plus twice
+    /// its products with the earlier segments of its row on its body (found through a chain per
+    /// row). A rigid body's segment (3 DOFs, the whole body) is its body's only one in its row,
+    /// since a contact joins two bodies: it neither walks nor joins the chains, whose links are
+    /// made on the first other segment (a pile of rigid disks makes none). With its K̃⁻¹ found by
+    /// one load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the 1,000-disk
+    /// pile. Returns the number of those segments on body-form clusters.
+    fn add_diagonal(&self, jac: &Jacobian, segs: Range<usize>, diagonal: &mut [f64], row0: usize) -> usize {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
         let all = jac.segments();
         // per row its last segment in the chain, per segment the one before (u32, as in
@@ -225,21 +236,14 @@ impl BodyPart {
         let mut chains: Option<(Vec<u32>, Vec<u32>)> = None;
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         let mut count = 0;
-        // the largest row so far, and the split with the smallest row after it
-        let (mut top, mut split, mut low) = (0, 0, usize::MAX);
-        for (i, s) in all.iter().enumerate() {
-            if SPLIT {
-                if split == 0 && 2 * i >= all.len() && i > 0 && s.row() > top {
-                    split = i;
-                }
-                (top, low) = (top.max(s.row()), if split > 0 { low.min(s.row()) } else { low });
-            }
+        for i in segs {
+            let s = &all[i];
             let k = rigid[s.cluster()];
             if k != NONE && s.width() == 3 {
                 // unrolled, over arrays (one bounds check each)
                 let v = jac.vals_n::<3>(s);
                 solve_n::<3>(range_n::<9>(kinv, k as usize), v, &mut x);
-                diagonal[s.row()] += dot_n::<3>(v, &x);
+                diagonal[s.row() - row0] += dot_n::<3>(v, &x);
                 count += 1;
                 continue;
             }
@@ -259,11 +263,10 @@ impl BodyPart {
                 }
                 j = prev[j as usize];
             }
-            diagonal[s.row()] += d;
+            diagonal[s.row() - row0] += d;
             (prev[i], last[s.row()]) = (last[s.row()], i as u32);
         }
-        let splits = split > 0 && low >= all[split].row();
-        (count, if splits { split } else { 0 })
+        count
     }
 
     /// out += W_bodies z, or out = W_bodies z with `clear`.
@@ -460,6 +463,37 @@ impl BodyPart {
             out[s.row()] += lambda[self.body(s)];
         }
     }
+}
+
+/// Segments past the products' cut that [`split_of`] reads one by one (the rest of the second
+/// half it reads on the other core).
+const CUT_WINDOW: usize = 256;
+
+/// Where B's segments split into two halves whose rows do not overlap (`BodyPart::split`), or 0:
+/// the first segment at or past half (2i >= n, i > 0) whose row is above every earlier one,
+/// when no later segment's row is below it. The rows of the two halves are read on the two
+/// cores (the largest of the first half, the least of the second past `CUT_WINDOW`); the cut
+/// and the rows near it then on this one. Segments pushed contact by contact, as the rows are
+/// built, cut at the first contact that starts past half.
+fn split_of(all: &[Segment]) -> usize {
+    let n = all.len();
+    let half = n.div_ceil(2).max(1);
+    if half >= n {
+        return 0;
+    }
+    let tail = (half + CUT_WINDOW).min(n);
+    let (top, low_tail) = micropool::join(
+        || all[..half].iter().map(Segment::row).fold(0, usize::max),
+        || all[tail..].iter().map(Segment::row).fold(usize::MAX, usize::min),
+    );
+    // rows at or below `top` do not raise it: the cut is the first row above it
+    let Some(cut) = (half..n).find(|&i| all[i].row() > top) else { return 0 };
+    let low = if cut < tail {
+        all[cut..tail].iter().map(Segment::row).fold(low_tail, usize::min)
+    } else {
+        all[cut..].iter().map(Segment::row).fold(usize::MAX, usize::min)
+    };
+    if low >= all[cut].row() { cut } else { 0 }
 }
 
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).

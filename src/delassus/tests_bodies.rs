@@ -10,7 +10,12 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 /// first segment at or past half (20,998) whose row is above every earlier one is contact
 /// 5,250's first, segment 21,000 (20,998 and 20,999 are contact 5,249's rows on its second
 /// body). With contact 0 pushed last, rows 0 and 1 come after every cut: no split, and the
-/// serial product runs. Both products equal the assembled W's to 1e-12 of the largest
+/// serial product runs. With contact 5,329 pushed in 5,249's place (then 5,249–5,328, then the
+/// rest in order), its rows 10,658 and 10,659, among the first half's segments, are above all
+/// the rows up to contact 5,330's: the cut is that contact's first segment, 21,320, farther
+/// past half than `split_of` reads row by row (`CUT_WINDOW`). diag(W), added over the halves
+/// on both cores, has the bits of one pass over all segments, and equals the assembled W's
+/// diagonal to 1e-12. Both products equal the assembled W's to 1e-12 of the largest
 /// |W z| (the same terms summed in another order), and give the same bits on one thread and
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
@@ -43,12 +48,22 @@ fn products_split_only_where_no_row_straddles() {
             }
         }
     };
-    for (order, split) in [((0..n - 1).collect::<Vec<_>>(), 21_000), ((1..n - 1).chain([0]).collect(), 0)] {
+    let late = (0..5_249).chain([5_329]).chain(5_249..5_329).chain(5_330..n - 1).collect();
+    let orders =
+        [((0..n - 1).collect::<Vec<_>>(), 21_000), ((1..n - 1).chain([0]).collect(), 0), (late, 21_320)];
+    for (order, split) in orders {
         let mut jac = Jacobian::default();
         jac.reset(2 * (n - 1));
         order.iter().for_each(|&k| contact(&mut jac, k));
-        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows]);
+        let mut diagonal = vec![0.0; jac.rows];
+        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
         assert_eq!(part.split, split);
+        let mut serial = vec![0.0; jac.rows];
+        part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
+        assert!(
+            diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()),
+            "split {split}: diagonal"
+        );
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
         // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
         let on = |threads: usize, clear: bool| {
@@ -63,6 +78,11 @@ fn products_split_only_where_no_row_straddles() {
         assert!(same(&on(1, true)) && same(&on(2, true)), "split {split}: clearing");
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
         let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for (r, d) in diagonal.iter().enumerate() {
+            let wrr = w.get(r, r).copied().unwrap_or(0.0);
+            assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split}, diagonal {r}: {d} vs {wrr}");
+        }
         for r in 0..jac.rows {
             assert!(
                 (got[r] - want[r]).abs() <= 1e-12 * scale,
