@@ -48,7 +48,8 @@ fn correction_comparison() {
 /// Serial and parallel sweeps give bit-identical results (reductions are summed per fixed
 /// block in a fixed order), with PC and with MPRGP (whose every pass runs in halves).
 /// Expected: identical z, reports and counters, for a converged frictionless solve (tolerance
-/// 1e-6) and for a Coulomb QVI stopped by a 2 000-iteration budget. 3 540 rows: two blocks of 2 048, one per half of `micropool::join`.
+/// 1e-6) and for a Coulomb QVI stopped by a 2 000-iteration budget. 3 540 rows: two blocks of
+/// 2 048, one per half of `micropool::join`.
 #[test]
 fn parallel_equals_serial() {
     let (w, q) = grid_network(30, 30, 11, 0.1);

@@ -231,12 +231,13 @@ impl BodyPart {
     fn add_diagonal(&self, jac: &Jacobian, segs: Range<usize>, diagonal: &mut [f64], row0: usize) -> usize {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
         let all = jac.segments();
-        // per row its last segment in the chain, per segment the one before (u32, as in
-        // `Segment`: half the memory to clear)
+        // per row of `diagonal` its last segment in the chain, per segment of `segs` the one
+        // before (u32, as in `Segment`: half the memory to clear)
         let mut chains: Option<(Vec<u32>, Vec<u32>)> = None;
         let (mut u, mut x) = ([0.0; MAX_DOF], [0.0; MAX_DOF]);
         let mut count = 0;
-        for i in segs {
+        let first = segs.start;
+        for i in segs.clone() {
             let s = &all[i];
             let k = rigid[s.cluster()];
             if k != NONE && s.width() == 3 {
@@ -251,20 +252,22 @@ impl BodyPart {
                 continue;
             }
             count += 1;
-            let (last, prev) = chains.get_or_insert_with(|| (vec![NONE; jac.rows], vec![NONE; all.len()]));
+            let (last, prev) =
+                chains.get_or_insert_with(|| (vec![NONE; diagonal.len()], vec![NONE; segs.len()]));
             self.column(jac, s, &mut u, &mut x);
             let mut d = self.dot(jac, s, &x);
-            let mut j = last[s.row()];
+            let r = s.row() - row0;
+            let mut j = last[r];
             while j != NONE {
                 let t = &all[j as usize];
                 if t.cluster() == s.cluster() {
                     self.column(jac, s, &mut u, &mut x);
                     d += 2.0 * self.dot(jac, t, &x);
                 }
-                j = prev[j as usize];
+                j = prev[j as usize - first];
             }
-            diagonal[s.row() - row0] += d;
-            (prev[i], last[s.row()]) = (last[s.row()], i as u32);
+            diagonal[r] += d;
+            (prev[i - first], last[r]) = (last[r], i as u32);
         }
         count
     }

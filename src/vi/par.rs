@@ -83,6 +83,18 @@ pub(super) fn join<A: Send, B: Send>(
     if par { micropool::join(a, b) } else { (a(), b()) }
 }
 
+/// `f(first_row, rows)` over the sweeps' two halves of `out` ([`split`]), through [`join`]: a
+/// pass that needs no per-block partials.
+pub(super) fn halves<T: Send>(
+    par: bool,
+    out: &mut [f64],
+    f: impl Fn(usize, &mut [f64]) -> T + Sync,
+) -> (T, T) {
+    let at = split(out.len());
+    let (o1, o2) = out.split_at_mut(at);
+    join(par, || f(0, o1), || f(at, o2))
+}
+
 /// [`BoundRule::all_bounds`] of a `Sync` rule over the blocks of the sweeps' two halves (the
 /// block that holds their cut row starts the second), one per core when `par`: the bounds of
 /// each block are those of `block_bounds`, in any order.

@@ -130,7 +130,7 @@ impl Scaling {
         w.diagonal(&mut diag[..n]);
         // the rows in the sweeps' two halves (`par::join`), each row's factors and the
         // largest scaled diagonal; the second half's zero rows follow the first's
-        let at = super::par::split(n);
+        let at = par::split(n);
         let (sd, sc, dd) = (&mut self.sd[..n], &mut self.sc[..n], &mut self.dd[..n]);
         let ((sd1, sd2), (sc1, sc2), (dd1, dd2)) =
             (sd.split_at_mut(at), sc.split_at_mut(at), dd.split_at_mut(at));
@@ -155,11 +155,8 @@ impl Scaling {
             }
             max_diag
         };
-        let (m1, m2) = super::par::join(
-            par,
-            || half(d1, sd1, sc1, dd1, 0, zero),
-            || half(d2, sd2, sc2, dd2, at, &mut zero2),
-        );
+        let (m1, m2) =
+            par::join(par, || half(d1, sd1, sc1, dd1, 0, zero), || half(d2, sd2, sc2, dd2, at, &mut zero2));
         self.zero_rows.extend(zero2);
         self.set_gs();
         larger(m2, m1)
@@ -171,9 +168,7 @@ impl Scaling {
         let n = q.len();
         let Scaling { jacobi, sc, gs, qs, .. } = self;
         let (gs, sc) = (&gs_of(*jacobi, sc, gs)[..n], &sc[..n]);
-        let at = super::par::split(n);
-        let (qs1, qs2) = qs[..n].split_at_mut(at);
-        let half = |qs: &mut [f64], first: usize| {
+        let half = |first: usize, qs: &mut [f64]| {
             let mut dq: f64 = 0.0;
             // the vectors cut to the half's rows, so that the loop's indexing needs no bounds checks
             let b = first..first + qs.len();
@@ -184,7 +179,7 @@ impl Scaling {
             }
             dq
         };
-        let (a, b) = super::par::join(par, || half(qs1, 0), || half(qs2, at));
+        let (a, b) = par::halves(par, &mut qs[..n], half);
         larger(b, a).max(1.0)
     }
 }
@@ -288,9 +283,7 @@ impl Rows for Scaled<'_> {
                 t[i] = sc[i] * x[i];
             }
         };
-        let (t1, t2) = tmp[..x.len()].split_at_mut(par::split(x.len()));
-        let at = t1.len();
-        par::join(self.par, || scale(0, t1), || scale(at, t2));
+        par::halves(self.par, &mut tmp[..x.len()], scale);
         self.w.apply(tmp, out);
     }
 
