@@ -13,9 +13,13 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 /// serial product runs. With contact 5,329 pushed in 5,249's place (then 5,249–5,328, then the
 /// rest in order), its rows 10,658 and 10,659, among the first half's segments, are above all
 /// the rows up to contact 5,330's: the cut is that contact's first segment, 21,320, farther
-/// past half than `split_of` reads row by row (`CUT_WINDOW`). diag(W), added over the halves
-/// on both cores, has the bits of one pass over all segments, and equals the assembled W's
-/// diagonal to 1e-12. Both products equal the assembled W's to 1e-12 of the largest
+/// past half than `split_of` reads row by row (`CUT_WINDOW`). With a contact on disk 0 alone
+/// (a wall's: rows 0 and 1, two segments) pushed first and the others' rows two higher, half
+/// (20,999) falls on contact 5,249's second segment, whose row is above every earlier one but
+/// not at or below the later ones (its third segment is on the row below): the cut is contact
+/// 5,250's first segment, 21,002 (the first rule found none there). diag(W), added over the
+/// halves on both cores, has the bits of one pass over all segments, and equals the assembled
+/// W's diagonal to 1e-12. Both products equal the assembled W's to 1e-12 of the largest
 /// |W z| (the same terms summed in another order), and give the same bits on one thread and
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
@@ -39,22 +43,38 @@ fn products_split_only_where_no_row_straddles() {
     let mut flex = Flexibility::new(false);
     flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
     let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; n]));
-    let contact = |jac: &mut Jacobian, k: usize| {
+    // contact k between disks k and k + 1 at rows first + 2k, + 1
+    let contact = |jac: &mut Jacobian, k: usize, first: usize| {
         let normal = Vec2::new(-1.0, -0.1 * (k % 3) as f64).normalize();
         let x = Vec2::new(k as f64 + 0.5, 0.0);
         for (body, sign) in [(k, 1.0), (k + 1, -1.0)] {
-            for (row, dir) in [(2 * k, normal), (2 * k + 1, cw(normal))] {
+            for (row, dir) in [(first + 2 * k, normal), (first + 2 * k + 1, cw(normal))] {
                 jac.push(row, body, 3 * body, 3, bodies[body].shape_row(x, dir) * sign);
             }
         }
     };
+    let wall = |jac: &mut Jacobian| {
+        let x = Vec2::new(-0.5, 0.0);
+        for (row, dir) in [(0, Vec2::x()), (1, Vec2::y())] {
+            jac.push(row, 0, 0, 3, bodies[0].shape_row(x, dir));
+        }
+    };
     let late = (0..5_249).chain([5_329]).chain(5_249..5_329).chain(5_330..n - 1).collect();
-    let orders =
-        [((0..n - 1).collect::<Vec<_>>(), 21_000), ((1..n - 1).chain([0]).collect(), 0), (late, 21_320)];
-    for (order, split) in orders {
+    let in_order = || (0..n - 1).collect::<Vec<_>>();
+    let orders = [
+        (in_order(), false, 21_000),
+        ((1..n - 1).chain([0]).collect(), false, 0),
+        (late, false, 21_320),
+        (in_order(), true, 21_002),
+    ];
+    for (order, with_wall, split) in orders {
         let mut jac = Jacobian::default();
-        jac.reset(2 * (n - 1));
-        order.iter().for_each(|&k| contact(&mut jac, k));
+        let first = if with_wall { 2 } else { 0 };
+        jac.reset(first + 2 * (n - 1));
+        if with_wall {
+            wall(&mut jac);
+        }
+        order.iter().for_each(|&k| contact(&mut jac, k, first));
         let mut diagonal = vec![0.0; jac.rows];
         let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
         assert_eq!(part.split, split);
