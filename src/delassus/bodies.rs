@@ -13,6 +13,8 @@
 //! stack of 1e12 (`tests/mass_ratio.rs`) the irrational entries of B R add rounding to the
 //! cancelling contact forces of the light block, and two steps no longer converged.
 
+use super::cut::split_of;
+use super::frames::{self, Frame};
 use crate::body::MAX_DOF;
 use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
@@ -121,10 +123,11 @@ impl Blocks {
     }
 }
 
-/// The body-form clusters' part of W (see the module docs). It keeps no copy of B: its
-/// products run over the operator's own Jacobian (passed in), whose segments on body-form
-/// clusters it reads in push order (which fixes every sum's order), and its body vectors are
-/// indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
+/// The body-form clusters' part of W (see the module docs). Its products run over the
+/// operator's own Jacobian (passed in), whose segments on body-form clusters it reads in push
+/// order (which fixes every sum's order), or, when every segment is a rigid contact's, over the
+/// same entries packed per contact (`frames.rs`, a third of the bytes, the same sums); its body
+/// vectors are indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
 #[derive(Debug, Default)]
 pub(super) struct BodyPart {
     /// The bodies' ranges and blocks, shared with the scratch that keeps them across steps.
@@ -134,6 +137,9 @@ pub(super) struct BodyPart {
     /// Where B's segments split into two halves whose rows do not overlap (every row of the
     /// first below every row of the second), at about half of them; 0 when they do not split so.
     split: usize,
+    /// B's segments as contact frames, in the two halves of `split` (the second empty without
+    /// one), when every segment is a rigid body-form contact's (`frames.rs`).
+    frames: Option<[Vec<Frame>; 2]>,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -146,19 +152,40 @@ impl BodyPart {
         let mut part = BodyPart { blocks, ..Default::default() };
         let all = jac.segments();
         part.split = if all.len() >= HALVES_FROM { split_of(all) } else { 0 };
-        part.count = if part.split > 0 {
+        let ((c1, f1), (c2, f2)) = if part.split > 0 {
             let (at, row) = (part.split, all[part.split].row());
             let (d1, d2) = diagonal.split_at_mut(row);
             let part = &part;
-            let (a, b) = micropool::join(
-                || part.add_diagonal(jac, 0..at, d1, 0),
-                || part.add_diagonal(jac, at..all.len(), d2, row),
-            );
-            a + b
+            micropool::join(|| part.half(jac, 0..at, d1, 0), || part.half(jac, at..all.len(), d2, row))
         } else {
-            part.add_diagonal(jac, 0..all.len(), diagonal, 0)
+            (part.half(jac, 0..all.len(), diagonal, 0), (0, Some(Vec::new())))
         };
+        part.count = c1 + c2;
+        part.frames = f1.zip(f2).map(<[_; 2]>::from);
         part
+    }
+
+    /// One half of `new` over B's segments `segs`, whose rows are those of `diagonal` (from row
+    /// `row0`): the half's frames when it packs into them (`frames.rs`: every segment a rigid
+    /// body-form contact's, its K̃⁻¹ at three times its first DOF, as in a pile of rigid bodies)
+    /// and its share of diag(W), from the frames or else from the segments, and the number of
+    /// its segments on body-form clusters.
+    fn half(
+        &self,
+        jac: &Jacobian,
+        segs: Range<usize>,
+        diagonal: &mut [f64],
+        row0: usize,
+    ) -> (usize, Option<Vec<Frame>>) {
+        let Blocks { rigid, kinv, all_rigid, .. } = &*self.blocks;
+        let dense = |s: &Segment| rigid[s.cluster()] as usize == 3 * s.start();
+        match all_rigid.then(|| frames::pack(jac, &jac.segments()[segs.clone()], dense)).flatten() {
+            Some(f) => {
+                frames::add_diagonal(&f, kinv, diagonal, row0);
+                (segs.len(), Some(f))
+            }
+            None => (self.add_diagonal(jac, segs, diagonal, row0), None),
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -314,7 +341,10 @@ impl BodyPart {
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
-        scatter(jac, segs.clone(), z, u);
+        match &self.frames {
+            Some([f, _]) => frames::scatter(f, z, u),
+            None => scatter(jac, segs.clone(), z, u),
+        }
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
             for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
@@ -325,6 +355,9 @@ impl BodyPart {
                 let r = start..start + ns[b];
                 self.solve(b, &u[r.clone()], &mut v[r]);
             }
+        }
+        if let Some([f, _]) = &self.frames {
+            return frames::gather(f, v, out, 0);
         }
         // (not `gather`: its offset cost 48 k instructions a warm step of the 1,000-disk pile)
         for s in segs {
@@ -347,11 +380,15 @@ impl BodyPart {
         let (u1, rest) = work.split_at_mut(n);
         let (u2, v) = rest.split_at_mut(n);
         let (first, second) = jac.segments().split_at(self.split);
-        let sum = |segs, u: &mut [f64]| {
+        let frames = self.frames.as_ref();
+        let sum = |half: usize, segs, u: &mut [f64]| {
             u.fill(0.0);
-            scatter(jac, segs, z, u);
+            match frames {
+                Some(f) => frames::scatter(&f[half], z, u),
+                None => scatter(jac, segs, z, u),
+            }
         };
-        micropool::join(|| sum(first, u1), || sum(second, u2));
+        micropool::join(|| sum(0, first, u1), || sum(1, second, u2));
         let (u1, u2) = (&*u1, &*u2);
         let half = start.len() / 2;
         let at = start.get(half).copied().unwrap_or(n);
@@ -362,13 +399,16 @@ impl BodyPart {
         );
         let (v, row) = (&*v, second[0].row());
         let (o1, o2) = out.split_at_mut(row);
-        let gather = |segs, out: &mut [f64], offset| {
+        let gather = |half: usize, segs, out: &mut [f64], offset| {
             if clear {
                 out.fill(0.0);
             }
-            gather(jac, segs, v, out, offset);
+            match frames {
+                Some(f) => frames::gather(&f[half], v, out, offset),
+                None => gather(jac, segs, v, out, offset),
+            }
         };
-        micropool::join(|| gather(first, o1, 0), || gather(second, o2, row));
+        micropool::join(|| gather(0, first, o1, 0), || gather(1, second, o2, row));
     }
 
     /// v[start_b - offset..] = K̃_b⁻¹ (u1 + u2)[start_b..] for the bodies b of `bodies`.
@@ -466,56 +506,6 @@ impl BodyPart {
             out[s.row()] += lambda[self.body(s)];
         }
     }
-}
-
-/// Segments past half that [`split_of`] reads one by one (the rest of the second half it reads
-/// on the other core).
-const CUT_WINDOW: usize = 256;
-
-/// Where B's segments split into two halves whose rows do not overlap (`BodyPart::split`), or 0:
-/// the first segment i at or past half (2i >= n, i > 0) whose row is above every earlier one and
-/// at or below every later one (the products and the diagonal then cut their rows at its row).
-/// The rows of the two halves are read on the two cores (the largest of the first half, the
-/// least of the second past `CUT_WINDOW`); the segments near half then on this one, with their
-/// suffix minima. Segments pushed contact by contact, as the rows are built, cut at the first
-/// contact that starts past half, or inside a contact with one body (rows n, t of a wall
-/// contact), but never at a two-body contact's second row (n on A, t on A, n on B, t on B):
-/// the first rule, which took the first row above the first half and gave up when a later row
-/// lay below it, found no cut when half fell there (`tests_bodies.rs`).
-fn split_of(all: &[Segment]) -> usize {
-    let n = all.len();
-    let half = n.div_ceil(2).max(1);
-    if half >= n {
-        return 0;
-    }
-    let tail = (half + CUT_WINDOW).min(n);
-    let (top, low_tail) = micropool::join(
-        || all[..half].iter().map(Segment::row).fold(0, usize::max),
-        || all[tail..].iter().map(Segment::row).fold(usize::MAX, usize::min),
-    );
-    let near = first_cut(&all[half..tail], top, low_tail);
-    if let Some(k) = near {
-        return half + k;
-    }
-    // past the window (contacts pushed far out of row order): the same rule over the rest
-    let top = all[half..tail].iter().map(Segment::row).fold(top, usize::max);
-    first_cut(&all[tail..], top, usize::MAX).map_or(0, |k| tail + k)
-}
-
-/// The first k whose row is above `top` and above every row of `segs` before it, and at or
-/// below every row after it and `low`, the least row past `segs`.
-fn first_cut(segs: &[Segment], mut top: usize, low: usize) -> Option<usize> {
-    let mut suffix = vec![low; segs.len() + 1];
-    for (k, s) in segs.iter().enumerate().rev() {
-        suffix[k] = suffix[k + 1].min(s.row());
-    }
-    for (k, s) in segs.iter().enumerate() {
-        if s.row() > top && s.row() <= suffix[k + 1] {
-            return Some(k);
-        }
-        top = top.max(s.row());
-    }
-    None
 }
 
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).

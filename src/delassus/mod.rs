@@ -28,6 +28,8 @@ use sprs::CsMat;
 use std::sync::Arc;
 
 mod bodies;
+mod cut;
+mod frames;
 
 /// Work storage of the explicit assembly, kept across steps by the world's pipeline so that a
 /// step allocates only the CSR arrays of its W.

@@ -23,7 +23,8 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 /// |W z| (the same terms summed in another order), and give the same bits on one thread and
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
-/// added to.
+/// added to. Every order packs into contact frames (`frames.rs`; the wall's contact into one of
+/// one body), whose products and diagonal have the bits of the segments'.
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
@@ -55,7 +56,7 @@ fn products_split_only_where_no_row_straddles() {
     };
     let wall = |jac: &mut Jacobian| {
         let x = Vec2::new(-0.5, 0.0);
-        for (row, dir) in [(0, Vec2::x()), (1, Vec2::y())] {
+        for (row, dir) in [(0, Vec2::x()), (1, cw(Vec2::x()))] {
             jac.push(row, 0, 0, 3, bodies[0].shape_row(x, dir));
         }
     };
@@ -78,6 +79,10 @@ fn products_split_only_where_no_row_straddles() {
         let mut diagonal = vec![0.0; jac.rows];
         let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
         assert_eq!(part.split, split);
+        assert!(part.frames.is_some(), "split {split}: frames");
+        // the same part over the segments
+        let plain =
+            BodyPart { frames: None, ..BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows]) };
         let mut serial = vec![0.0; jac.rows];
         part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
         assert!(
@@ -86,16 +91,17 @@ fn products_split_only_where_no_row_straddles() {
         );
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
         // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
-        let on = |threads: usize, clear: bool| {
+        let on = |part: &BodyPart, threads: usize, clear: bool| {
             let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
             let mut out = vec![if clear { f64::NAN } else { 0.0 }; jac.rows];
             pool.install(|| part.apply(&jac, &z, &mut out, clear));
             out
         };
-        let (got, w) = (on(2, false), super::super::assemble(&jac, &flex, &map));
+        let (got, w) = (on(&part, 2, false), super::super::assemble(&jac, &flex, &map));
         let same = |a: &[f64]| a.iter().zip(&got).all(|(a, b)| a.to_bits() == b.to_bits());
-        assert!(same(&on(1, false)), "split {split}: threads");
-        assert!(same(&on(1, true)) && same(&on(2, true)), "split {split}: clearing");
+        assert!(same(&on(&part, 1, false)), "split {split}: threads");
+        assert!(same(&on(&part, 1, true)) && same(&on(&part, 2, true)), "split {split}: clearing");
+        assert!(same(&on(&plain, 2, false)) && same(&on(&plain, 1, true)), "split {split}: segments");
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
         let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -112,4 +118,51 @@ fn products_split_only_where_no_row_straddles() {
             );
         }
     }
+}
+
+/// Contact frames (`frames::pack`) only where each frame gives back its segments' entries bit
+/// for bit and the body's K̃⁻¹ lies where the frames' diagonal reads it: a contact between two
+/// rigid bodies (rows n and cw(n) on A, the same negated on B, each with its own moment arms)
+/// and one on a single body pack; a tangent row that is not cw(n), a rolling row (a third row,
+/// (0, 0, 1) on θ), a deformable body's segment (four entries), a contact cut after its first
+/// segment, and a body whose K̃⁻¹ is not at three times its first DOF each keep the Jacobian on
+/// its segments.
+#[test]
+fn frames_only_where_they_give_back_every_entry() {
+    let n = Vec2::new(0.6, -0.8);
+    let (na, nb) = ([n.x, n.y, 0.3], [-n.x, -n.y, -0.2]);
+    let (ta, tb) = ([cw(n).x, cw(n).y, 0.5], [-cw(n).x, -cw(n).y, 0.7]);
+    // contact rows 0, 1 between bodies at DOFs 0 and 3, rows 2, 3 on the body at DOF 6 alone
+    let good = |jac: &mut Jacobian| {
+        for (row, start, vals) in [(0, 0, na), (1, 0, ta), (0, 3, nb), (1, 3, tb), (2, 6, na), (3, 6, ta)] {
+            jac.push_slice(row, start / 3, start, &vals);
+        }
+    };
+    let dense = |s: &Segment| s.cluster() * 3 == s.start();
+    let packed = |extra: &dyn Fn(&mut Jacobian), dense: &dyn Fn(&Segment) -> bool| {
+        let mut jac = Jacobian::with_rows(7);
+        good(&mut jac);
+        extra(&mut jac);
+        frames::pack(&jac, jac.segments(), dense).map(|f| f.len())
+    };
+    assert_eq!(packed(&|_| {}, &dense), Some(2));
+    let bad: [&dyn Fn(&mut Jacobian); 4] = [
+        &|jac| [(4, n), (5, n)].iter().for_each(|&(r, d)| jac.push_slice(r, 0, 0, &[d.x, d.y, 0.1])),
+        &|jac| {
+            for (start, sign, (nv, tv)) in [(0, 1.0, (na, ta)), (3, -1.0, (nb, tb))] {
+                [(4, nv), (5, tv), (6, [0.0, 0.0, sign])]
+                    .iter()
+                    .for_each(|(r, v)| jac.push_slice(*r, start / 3, start, v));
+            }
+        },
+        &|jac| {
+            jac.push_slice(4, 3, 9, &[n.x, n.y, 0.1, 0.2]);
+            jac.push_slice(5, 3, 9, &[cw(n).x, cw(n).y, 0.1, 0.2]);
+        },
+        &|jac| jac.push_slice(4, 0, 0, &na),
+    ];
+    for (i, extra) in bad.iter().enumerate() {
+        assert_eq!(packed(extra, &dense), None, "case {i}");
+    }
+    assert_eq!(packed(&|_| {}, &|s: &Segment| s.start() != 6), None, "not dense");
 }
