@@ -148,44 +148,64 @@ impl BodyPart {
     /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`: from
     /// [`HALVES_FROM`] segments on, over the products' two halves (`split`), one per core, when
     /// B has them (their rows are apart, so each half adds to its own rows).
-    pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
+    /// `spare` holds the storage of earlier steps' frames ([`Self::recycle`]).
+    pub fn new(
+        jac: &Jacobian,
+        blocks: Arc<Blocks>,
+        diagonal: &mut [f64],
+        spare: &mut Vec<Vec<Frame>>,
+    ) -> Self {
         let mut part = BodyPart { blocks, ..Default::default() };
         let all = jac.segments();
         part.split = if all.len() >= HALVES_FROM { split_of(all) } else { 0 };
-        let ((c1, f1), (c2, f2)) = if part.split > 0 {
+        let mut store = [(); 2].map(|_| spare.pop().unwrap_or_default());
+        let [f1, f2] = &mut store;
+        let ((c1, p1), (c2, p2)) = if part.split > 0 {
             let (at, row) = (part.split, all[part.split].row());
             let (d1, d2) = diagonal.split_at_mut(row);
             let part = &part;
-            micropool::join(|| part.half(jac, 0..at, d1, 0), || part.half(jac, at..all.len(), d2, row))
+            micropool::join(
+                || part.half(jac, 0..at, d1, 0, f1),
+                || part.half(jac, at..all.len(), d2, row, f2),
+            )
         } else {
-            (part.half(jac, 0..all.len(), diagonal, 0), (0, Some(Vec::new())))
+            f2.clear();
+            (part.half(jac, 0..all.len(), diagonal, 0, f1), (0, true))
         };
         part.count = c1 + c2;
-        part.frames = f1.zip(f2).map(<[_; 2]>::from);
+        if p1 && p2 {
+            part.frames = Some(store);
+        } else {
+            spare.extend(store);
+        }
         part
+    }
+
+    /// Returns the frames' storage to `spare`.
+    pub fn recycle(self, spare: &mut Vec<Vec<Frame>>) {
+        spare.extend(self.frames.into_iter().flatten());
     }
 
     /// One half of `new` over B's segments `segs`, whose rows are those of `diagonal` (from row
     /// `row0`): the half's frames when it packs into them (`frames.rs`: every segment a rigid
     /// body-form contact's, its K̃⁻¹ at three times its first DOF, as in a pile of rigid bodies)
-    /// and its share of diag(W), from the frames or else from the segments, and the number of
-    /// its segments on body-form clusters.
+    /// (into `frames`, and whether it does) and its share of diag(W), from the frames or else
+    /// from the segments, and the number of its segments on body-form clusters.
     fn half(
         &self,
         jac: &Jacobian,
         segs: Range<usize>,
         diagonal: &mut [f64],
         row0: usize,
-    ) -> (usize, Option<Vec<Frame>>) {
+        frames: &mut Vec<Frame>,
+    ) -> (usize, bool) {
         let Blocks { rigid, kinv, all_rigid, .. } = &*self.blocks;
         let dense = |s: &Segment| rigid[s.cluster()] as usize == 3 * s.start();
-        match all_rigid.then(|| frames::pack(jac, &jac.segments()[segs.clone()], dense)).flatten() {
-            Some(f) => {
-                frames::add_diagonal(&f, kinv, diagonal, row0);
-                (segs.len(), Some(f))
-            }
-            None => (self.add_diagonal(jac, segs, diagonal, row0), None),
+        if *all_rigid && frames::pack(jac, &jac.segments()[segs.clone()], dense, frames) {
+            frames::add_diagonal(frames, kinv, diagonal, row0);
+            return (segs.len(), true);
         }
+        (self.add_diagonal(jac, segs, diagonal, row0), false)
     }
 
     pub fn is_empty(&self) -> bool {

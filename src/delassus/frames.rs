@@ -35,18 +35,25 @@ impl Frame {
     }
 }
 
-/// The segments `segs` of B as frames, or `None` when one of them is not a rigid contact's as
+/// The segments `segs` of B as frames in `frames`, or false when one of them is not a rigid contact's as
 /// described above (widths other than 3, a rolling row, entries that a frame would not give
 /// back bit for bit) or not `dense` (its body's K̃⁻¹ at three times its first DOF in the
-/// blocks: [`add_diagonal`]): those Jacobians keep to the segments.
-pub(super) fn pack(jac: &Jacobian, segs: &[Segment], dense: impl Fn(&Segment) -> bool) -> Option<Vec<Frame>> {
-    let mut frames = Vec::with_capacity(segs.len() / 4 + 1);
+/// blocks: [`add_diagonal`]): those Jacobians keep to the segments. `frames` is the storage
+/// (of an earlier step, [`super::Scratch`]), cleared first.
+pub(super) fn pack(
+    jac: &Jacobian,
+    segs: &[Segment],
+    dense: impl Fn(&Segment) -> bool,
+    frames: &mut Vec<Frame>,
+) -> bool {
+    frames.clear();
     let mut i = 0;
     while i < segs.len() {
-        let (s, t) = (&segs[i], segs.get(i + 1)?);
+        let Some(t) = segs.get(i + 1) else { return false };
+        let s = &segs[i];
         let (r, a) = (s.row(), s.start());
         if s.width() != 3 || t.width() != 3 || t.row() != r + 1 || t.start() != a || !dense(s) {
-            return None;
+            return false;
         }
         let (vs, vt) = (jac.vals_n::<3>(s), jac.vals_n::<3>(t));
         let mut frame =
@@ -54,7 +61,7 @@ pub(super) fn pack(jac: &Jacobian, segs: &[Segment], dense: impl Fn(&Segment) ->
         let on_b = segs.get(i + 2..i + 4).filter(|b| b[0].row() == r && b[1].row() == r + 1);
         if let Some([u, w]) = on_b {
             if u.width() != 3 || w.width() != 3 || w.start() != u.start() || !dense(u) {
-                return None;
+                return false;
             }
             (frame.b, frame.arm[2], frame.arm[3]) =
                 (u.start() as u32, jac.vals_n::<3>(u)[2], jac.vals_n::<3>(w)[2]);
@@ -64,12 +71,12 @@ pub(super) fn pack(jac: &Jacobian, segs: &[Segment], dense: impl Fn(&Segment) ->
             frame.entries()[k].iter().zip(v).all(|(x, y)| x.to_bits() == y.to_bits())
         };
         if !(0..count).all(|k| same(k, jac.vals_n::<3>(&segs[i + k]))) {
-            return None;
+            return false;
         }
         frames.push(frame);
         i += count;
     }
-    Some(frames)
+    true
 }
 
 /// diagonal[row - row0] += s K̃⁻¹ sᵀ for each segment s of the frames, in push order (the sums of

@@ -77,12 +77,14 @@ fn products_split_only_where_no_row_straddles() {
         }
         order.iter().for_each(|&k| contact(&mut jac, k, first));
         let mut diagonal = vec![0.0; jac.rows];
-        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
+        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal, &mut Vec::new());
         assert_eq!(part.split, split);
         assert!(part.frames.is_some(), "split {split}: frames");
         // the same part over the segments
-        let plain =
-            BodyPart { frames: None, ..BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows]) };
+        let plain = BodyPart {
+            frames: None,
+            ..BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows], &mut Vec::new())
+        };
         let mut serial = vec![0.0; jac.rows];
         part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
         assert!(
@@ -143,7 +145,11 @@ fn frames_only_where_they_give_back_every_entry() {
         let mut jac = Jacobian::with_rows(7);
         good(&mut jac);
         extra(&mut jac);
-        frames::pack(&jac, jac.segments(), dense).map(|f| f.len())
+        // into the storage of an earlier step (two frames), which pack clears
+        let (mut frames, mut earlier) = (Vec::new(), Jacobian::with_rows(4));
+        good(&mut earlier);
+        assert!(frames::pack(&earlier, earlier.segments(), |_| true, &mut frames));
+        frames::pack(&jac, jac.segments(), dense, &mut frames).then_some(frames.len())
     };
     assert_eq!(packed(&|_| {}, &dense), Some(2));
     let bad: [&dyn Fn(&mut Jacobian); 4] = [

@@ -100,7 +100,8 @@ pub struct Pipeline {
 impl Pipeline {
     /// Keeps the storage of rows that are no longer needed for the next ones.
     fn recycle(&mut self, rows: rows::Rows) {
-        self.rows.spare.push(rows.w.into_jacobian());
+        let jac = rows.w.recycle(&mut self.rows.assembly);
+        self.rows.spare.push(jac);
     }
 }
 
