@@ -14,7 +14,7 @@
 //! cancelling contact forces of the light block, and two steps no longer converged.
 
 use super::cut::split_of;
-use super::frames::{self, Frame};
+use super::frames::{self, Frame, gather, scatter};
 use crate::body::MAX_DOF;
 use crate::cluster::{Flexibility, block_times};
 use crate::dofs::DofMap;
@@ -362,7 +362,7 @@ impl BodyPart {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
         match &self.frames {
-            Some([f, _]) => frames::scatter(f, z, u),
+            Some([f, _]) => frames::scatter_frames(f, z, u),
             None => scatter(jac, segs.clone(), z, u),
         }
         if self.blocks.all_rigid {
@@ -377,7 +377,7 @@ impl BodyPart {
             }
         }
         if let Some([f, _]) = &self.frames {
-            return frames::gather(f, v, out, 0);
+            return frames::gather_frames(f, v, out, 0);
         }
         // (not `gather`: its offset cost 48 k instructions a warm step of the 1,000-disk pile)
         for s in segs {
@@ -404,7 +404,7 @@ impl BodyPart {
         let sum = |half: usize, segs, u: &mut [f64]| {
             u.fill(0.0);
             match frames {
-                Some(f) => frames::scatter(&f[half], z, u),
+                Some(f) => frames::scatter_frames(&f[half], z, u),
                 None => scatter(jac, segs, z, u),
             }
         };
@@ -424,7 +424,7 @@ impl BodyPart {
                 out.fill(0.0);
             }
             match frames {
-                Some(f) => frames::gather(&f[half], v, out, offset),
+                Some(f) => frames::gather_frames(&f[half], v, out, offset),
                 None => gather(jac, segs, v, out, offset),
             }
         };
@@ -554,39 +554,6 @@ fn largest_eigenvalue(m: &[f64], n: usize) -> f64 {
         + a(2, 0) * (a(1, 0) * a(2, 1) - d1 * a(2, 0));
     let r = (det / (2.0 * p * p * p)).clamp(-1.0, 1.0);
     q + 2.0 * p * (r.acos() / 3.0).cos()
-}
-
-/// u += Σ_s sᵀ z_row(s) over the segments `segs` (u indexed by global DOF).
-fn scatter<'a>(jac: &Jacobian, segs: impl IntoIterator<Item = &'a Segment>, z: &[f64], u: &mut [f64]) {
-    for s in segs {
-        let zr = z[s.row()];
-        match s.width() {
-            3 => axpy::<3>(zr, jac.vals_n::<3>(s), range_n_mut::<3>(u, s.start())),
-            _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
-        }
-    }
-}
-
-/// out[row(s) - offset] += s · v over the segments `segs`.
-fn gather<'a>(
-    jac: &Jacobian,
-    segs: impl IntoIterator<Item = &'a Segment>,
-    v: &[f64],
-    out: &mut [f64],
-    offset: usize,
-) {
-    for s in segs {
-        out[s.row() - offset] += jac.dot(s, v);
-    }
-}
-
-/// u[..N] += x t[..N], unrolled.
-#[inline(always)]
-fn axpy<const N: usize>(x: f64, t: &[f64], u: &mut [f64]) {
-    let (t, u) = (&t[..N], &mut u[..N]);
-    for i in 0..N {
-        u[i] += x * t[i];
-    }
 }
 
 /// Indices 0..n grouped by key (keys < `groups`), each group in index order (a counting

@@ -1,11 +1,12 @@
-//! B's rows of rigid contacts packed per contact for the body form's products (math note §3.3,
-//! "Contact frames"). A contact between two rigid bodies pushes four segments of three entries
-//! (`World::push_contact`): on A, rows n and t = cw(n) with moment arms p_A and q_A; on B, the
-//! same rows negated with its own arms. As segments these take 4 × (20 + 24) = 176 bytes, read
-//! twice a product; as a frame (the rows, both bodies' first DOFs, n and the four arms) 64 bytes.
-//! A contact on one body (a wall's) is the first half of that. The frames give back each entry
-//! bit for bit (a negation is exact, and [`pack`] checks every entry), and the products visit
-//! them in push order, so their sums are the segments' sums.
+//! The body form's passes over B (math note §3.3): over its segments, or over its rows of rigid
+//! contacts packed per contact ("Contact frames"). A contact between two rigid bodies pushes
+//! four segments of three entries (`World::push_contact`): on A, rows n and t = cw(n) with
+//! moment arms p_A and q_A; on B, the same rows negated with its own arms. As segments these
+//! take 4 × (20 + 24) = 176 bytes, read twice a product; as a frame (the rows, both bodies'
+//! first DOFs, n and the four arms) 64 bytes. A contact on one body (a wall's) is the first half
+//! of that. The frames give back each entry bit for bit (a negation is exact, and [`pack`]
+//! checks every entry), and the passes visit them in push order, so their sums are the
+//! segments' sums.
 
 use crate::cluster::block_times;
 use crate::jacobian::{Jacobian, Segment, dot_n, range_n, range_n_mut};
@@ -96,24 +97,24 @@ pub(super) fn add_diagonal(frames: &[Frame], kinv: &[f64], diagonal: &mut [f64],
     }
 }
 
-/// u += Bᵀ z over the frames (u indexed by global DOF), in push order.
-pub(super) fn scatter(frames: &[Frame], z: &[f64], u: &mut [f64]) {
+/// u += Bᵀ z over the frames (u indexed by global DOF), in push order ([`scatter`]'s sums).
+pub(super) fn scatter_frames(frames: &[Frame], z: &[f64], u: &mut [f64]) {
     for f in frames {
         let (r, e) = (f.row as usize, f.entries());
         let (zn, zt) = (z[r], z[r + 1]);
         let ua = range_n_mut::<3>(u, f.a as usize);
-        axpy(zn, &e[0], ua);
-        axpy(zt, &e[1], ua);
+        axpy::<3>(zn, &e[0], ua);
+        axpy::<3>(zt, &e[1], ua);
         if f.b != NONE {
             let ub = range_n_mut::<3>(u, f.b as usize);
-            axpy(zn, &e[2], ub);
-            axpy(zt, &e[3], ub);
+            axpy::<3>(zn, &e[2], ub);
+            axpy::<3>(zt, &e[3], ub);
         }
     }
 }
 
-/// out[row - offset] += B v over the frames, in push order.
-pub(super) fn gather(frames: &[Frame], v: &[f64], out: &mut [f64], offset: usize) {
+/// out[row - offset] += B v over the frames, in push order ([`gather`]'s sums).
+pub(super) fn gather_frames(frames: &[Frame], v: &[f64], out: &mut [f64], offset: usize) {
     for f in frames {
         let (r, e) = (f.row as usize - offset, f.entries());
         let va = range_n::<3>(v, f.a as usize);
@@ -127,10 +128,40 @@ pub(super) fn gather(frames: &[Frame], v: &[f64], out: &mut [f64], offset: usize
     }
 }
 
-/// u += x t, as `bodies::axpy::<3>`.
+/// u += Σ_s sᵀ z_row(s) over the segments `segs` (u indexed by global DOF).
+pub(super) fn scatter<'a>(
+    jac: &Jacobian,
+    segs: impl IntoIterator<Item = &'a Segment>,
+    z: &[f64],
+    u: &mut [f64],
+) {
+    for s in segs {
+        let zr = z[s.row()];
+        match s.width() {
+            3 => axpy::<3>(zr, jac.vals_n::<3>(s), range_n_mut::<3>(u, s.start())),
+            _ => u[s.dofs()].iter_mut().zip(jac.vals(s)).for_each(|(ui, a)| *ui += a * zr),
+        }
+    }
+}
+
+/// out[row(s) - offset] += s · v over the segments `segs`.
+pub(super) fn gather<'a>(
+    jac: &Jacobian,
+    segs: impl IntoIterator<Item = &'a Segment>,
+    v: &[f64],
+    out: &mut [f64],
+    offset: usize,
+) {
+    for s in segs {
+        out[s.row() - offset] += jac.dot(s, v);
+    }
+}
+
+/// u[..N] += x t[..N], unrolled.
 #[inline(always)]
-fn axpy(x: f64, t: &[f64; 3], u: &mut [f64; 3]) {
-    for i in 0..3 {
+fn axpy<const N: usize>(x: f64, t: &[f64], u: &mut [f64]) {
+    let (t, u) = (&t[..N], &mut u[..N]);
+    for i in 0..N {
         u[i] += x * t[i];
     }
 }
