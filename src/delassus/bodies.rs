@@ -188,9 +188,11 @@ impl BodyPart {
 
     /// One half of `new` over B's segments `segs`, whose rows are those of `diagonal` (from row
     /// `row0`): the half's frames when it packs into them (`frames.rs`: every segment a rigid
-    /// body-form contact's, its K̃⁻¹ at three times its first DOF, as in a pile of rigid bodies)
-    /// (into `frames`, and whether it does) and its share of diag(W), from the frames or else
-    /// from the segments, and the number of its segments on body-form clusters.
+    /// body-form contact's, its K̃⁻¹ at three times its first DOF, as in a pile of rigid bodies;
+    /// into `frames`, and whether it does) and its share of diag(W), added as the frames are
+    /// made and from the segments past them, and the number of its segments on body-form
+    /// clusters. (The segments before a contact that does not pack are rigid bodies', each its
+    /// body's only one in its row, so the diagonal gets the sums of `add_diagonal` alone.)
     fn half(
         &self,
         jac: &Jacobian,
@@ -201,11 +203,16 @@ impl BodyPart {
     ) -> (usize, bool) {
         let Blocks { rigid, kinv, all_rigid, .. } = &*self.blocks;
         let dense = |s: &Segment| rigid[s.cluster()] as usize == 3 * s.start();
-        if *all_rigid && frames::pack(jac, &jac.segments()[segs.clone()], dense, frames) {
-            frames::add_diagonal(frames, kinv, diagonal, row0);
-            return (segs.len(), true);
+        let packed = match all_rigid {
+            true => frames::pack(jac, &jac.segments()[segs.clone()], dense, frames, |f| {
+                frames::add_diagonal(f, kinv, diagonal, row0)
+            }),
+            false => 0,
+        };
+        if packed == segs.len() {
+            return (packed, true);
         }
-        (self.add_diagonal(jac, segs, diagonal, row0), false)
+        (packed + self.add_diagonal(jac, segs.start + packed..segs.end, diagonal, row0), false)
     }
 
     pub fn is_empty(&self) -> bool {

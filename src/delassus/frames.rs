@@ -36,64 +36,66 @@ impl Frame {
     }
 }
 
-/// The segments `segs` of B as frames in `frames`, or false when one of them is not a rigid contact's as
-/// described above (widths other than 3, a rolling row, entries that a frame would not give
-/// back bit for bit) or not `dense` (its body's K̃⁻¹ at three times its first DOF in the
-/// blocks: [`add_diagonal`]): those Jacobians keep to the segments. `frames` is the storage
-/// (of an earlier step, [`super::Scratch`]), cleared first.
+/// Packs the segments `segs` of B into `frames` (cleared first: the storage of an earlier step,
+/// [`super::Scratch`]) as far as they are rigid contacts' as described above, calling `each`
+/// on every frame as it is made; returns how many segments it packed, all of them unless one
+/// is not such a contact's (widths other than 3, a rolling row, entries that a frame would not
+/// give back bit for bit) or not `dense` (its body's K̃⁻¹ at three times its first DOF in the
+/// blocks: [`add_diagonal`]). Every segment before that point is a rigid body's.
 pub(super) fn pack(
     jac: &Jacobian,
     segs: &[Segment],
     dense: impl Fn(&Segment) -> bool,
     frames: &mut Vec<Frame>,
-) -> bool {
+    mut each: impl FnMut(&Frame),
+) -> usize {
     frames.clear();
     let mut i = 0;
-    while i < segs.len() {
-        let Some(t) = segs.get(i + 1) else { return false };
-        let s = &segs[i];
-        let (r, a) = (s.row(), s.start());
-        if s.width() != 3 || t.width() != 3 || t.row() != r + 1 || t.start() != a || !dense(s) {
-            return false;
-        }
-        let (vs, vt) = (jac.vals_n::<3>(s), jac.vals_n::<3>(t));
-        let mut frame =
-            Frame { row: r as u32, a: a as u32, b: NONE, n: [vs[0], vs[1]], arm: [vs[2], vt[2], 0.0, 0.0] };
-        let on_b = segs.get(i + 2..i + 4).filter(|b| b[0].row() == r && b[1].row() == r + 1);
-        if let Some([u, w]) = on_b {
-            if u.width() != 3 || w.width() != 3 || w.start() != u.start() || !dense(u) {
-                return false;
-            }
-            (frame.b, frame.arm[2], frame.arm[3]) =
-                (u.start() as u32, jac.vals_n::<3>(u)[2], jac.vals_n::<3>(w)[2]);
-        }
-        let count = if frame.b == NONE { 2 } else { 4 };
-        let same = |k: usize, v: &[f64; 3]| {
-            frame.entries()[k].iter().zip(v).all(|(x, y)| x.to_bits() == y.to_bits())
-        };
-        if !(0..count).all(|k| same(k, jac.vals_n::<3>(&segs[i + k]))) {
-            return false;
-        }
+    while let Some((frame, count)) = next_frame(jac, &segs[i..], &dense) {
+        each(&frame);
         frames.push(frame);
         i += count;
     }
-    true
+    i
 }
 
-/// diagonal[row - row0] += s K̃⁻¹ sᵀ for each segment s of the frames, in push order (the sums of
-/// `BodyPart::add_diagonal`), a body's K̃⁻¹ at 3 times its first DOF in `kinv` (`pack`'s `dense`).
-pub(super) fn add_diagonal(frames: &[Frame], kinv: &[f64], diagonal: &mut [f64], row0: usize) {
-    for f in frames {
-        let (r, e) = (f.row as usize - row0, f.entries());
-        let term = |s: &[f64; 3], at: u32| {
-            dot_n::<3>(s, &block_times::<3>(range_n::<9>(kinv, 3 * at as usize), 3, s))
-        };
-        diagonal[r] += term(&e[0], f.a);
-        diagonal[r + 1] += term(&e[1], f.a);
-        if f.b != NONE {
-            diagonal[r] += term(&e[2], f.b);
-            diagonal[r + 1] += term(&e[3], f.b);
+/// The frame of the contact whose segments start `segs`, and its number of segments, or `None`
+/// (see [`pack`]).
+fn next_frame(jac: &Jacobian, segs: &[Segment], dense: impl Fn(&Segment) -> bool) -> Option<(Frame, usize)> {
+    let (s, t) = (segs.first()?, segs.get(1)?);
+    let (r, a) = (s.row(), s.start());
+    if s.width() != 3 || t.width() != 3 || t.row() != r + 1 || t.start() != a || !dense(s) {
+        return None;
+    }
+    let (vs, vt) = (jac.vals_n::<3>(s), jac.vals_n::<3>(t));
+    let mut frame =
+        Frame { row: r as u32, a: a as u32, b: NONE, n: [vs[0], vs[1]], arm: [vs[2], vt[2], 0.0, 0.0] };
+    if let Some([u, w]) = segs.get(2..4).filter(|b| b[0].row() == r && b[1].row() == r + 1) {
+        if u.width() != 3 || w.width() != 3 || w.start() != u.start() || !dense(u) {
+            return None;
         }
+        (frame.b, frame.arm[2], frame.arm[3]) =
+            (u.start() as u32, jac.vals_n::<3>(u)[2], jac.vals_n::<3>(w)[2]);
+    }
+    let count = if frame.b == NONE { 2 } else { 4 };
+    let same = |k: usize| {
+        let v = jac.vals_n::<3>(&segs[k]);
+        frame.entries()[k].iter().zip(v).all(|(x, y)| x.to_bits() == y.to_bits())
+    };
+    (0..count).all(same).then_some((frame, count))
+}
+
+/// diagonal[row - row0] += s K̃⁻¹ sᵀ for each segment s of frame f, in push order (the sums of
+/// `BodyPart::add_diagonal`), a body's K̃⁻¹ at 3 times its first DOF in `kinv` (`pack`'s `dense`).
+pub(super) fn add_diagonal(f: &Frame, kinv: &[f64], diagonal: &mut [f64], row0: usize) {
+    let (r, e) = (f.row as usize - row0, f.entries());
+    let term =
+        |s: &[f64; 3], at: u32| dot_n::<3>(s, &block_times::<3>(range_n::<9>(kinv, 3 * at as usize), 3, s));
+    diagonal[r] += term(&e[0], f.a);
+    diagonal[r + 1] += term(&e[1], f.a);
+    if f.b != NONE {
+        diagonal[r] += term(&e[2], f.b);
+        diagonal[r + 1] += term(&e[3], f.b);
     }
 }
 

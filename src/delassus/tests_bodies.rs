@@ -5,6 +5,28 @@ use crate::body::Body;
 use crate::geometry::{Vec2, cw};
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
+/// `n` rigid disks of radius 0.5 in a row, one apart, each in body form: the bodies, their DOF
+/// map and flexibility, and the body form's blocks.
+fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let bodies: Vec<Body> = (0..n)
+        .map(|i| {
+            let spec = BodySpec::at_rest(
+                format!("b{i}"),
+                Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
+                BodyModel::Rigid,
+                false,
+            );
+            Body::new(&spec, &material, Plane::Stress)
+        })
+        .collect();
+    let map = DofMap::new(&bodies, &[]);
+    let mut flex = Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; n]));
+    (bodies, map, flex, blocks)
+}
+
 /// The halves' cut (`BodyPart::split`) on a row of 10,500 rigid disks, each touching the
 /// next (2 rows and 4 segments per contact, 41,996 segments): pushed in contact order, the
 /// first segment at or past half (20,998) whose row is above every earlier one is contact
@@ -28,22 +50,7 @@ use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
-    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-    let bodies: Vec<Body> = (0..n)
-        .map(|i| {
-            let spec = BodySpec::at_rest(
-                format!("b{i}"),
-                Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
-                BodyModel::Rigid,
-                false,
-            );
-            Body::new(&spec, &material, Plane::Stress)
-        })
-        .collect();
-    let map = DofMap::new(&bodies, &[]);
-    let mut flex = Flexibility::new(false);
-    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
-    let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; n]));
+    let (bodies, map, flex, blocks) = rigid_disks(n);
     // contact k between disks k and k + 1 at rows first + 2k, + 1
     let contact = |jac: &mut Jacobian, k: usize, first: usize| {
         let normal = Vec2::new(-1.0, -0.1 * (k % 3) as f64).normalize();
@@ -125,10 +132,13 @@ fn products_split_only_where_no_row_straddles() {
 /// Contact frames (`frames::pack`) only where each frame gives back its segments' entries bit
 /// for bit and the body's K̃⁻¹ lies where the frames' diagonal reads it: a contact between two
 /// rigid bodies (rows n and cw(n) on A, the same negated on B, each with its own moment arms)
-/// and one on a single body pack; a tangent row that is not cw(n), a rolling row (a third row,
-/// (0, 0, 1) on θ), a deformable body's segment (four entries), a contact cut after its first
-/// segment, and a body whose K̃⁻¹ is not at three times its first DOF each keep the Jacobian on
-/// its segments.
+/// and one on a single body pack (6 segments into 2 frames). Each of these stops the packing
+/// at its first segment (the count is the segments packed before it): a tangent row that is not
+/// cw(n) (6), a rolling contact (8: its rows n and t on A still make a frame of one body, and
+/// its rolling row stops it), a deformable body's segment of four entries (6), a contact cut
+/// after its first segment (6), a body whose K̃⁻¹ is not at three times its first DOF (4). Where
+/// the Jacobian stops packing, `BodyPart::new` adds the rest of diag(W) from the segments: the
+/// bits of `add_diagonal` over all of them.
 #[test]
 fn frames_only_where_they_give_back_every_entry() {
     let n = Vec2::new(0.6, -0.8);
@@ -140,35 +150,57 @@ fn frames_only_where_they_give_back_every_entry() {
             jac.push_slice(row, start / 3, start, &vals);
         }
     };
-    let dense = |s: &Segment| s.cluster() * 3 == s.start();
-    let packed = |extra: &dyn Fn(&mut Jacobian), dense: &dyn Fn(&Segment) -> bool| {
+    let jacobian = |extra: &dyn Fn(&mut Jacobian)| {
         let mut jac = Jacobian::with_rows(7);
         good(&mut jac);
         extra(&mut jac);
+        jac
+    };
+    let dense = |s: &Segment| s.cluster() * 3 == s.start();
+    let packed = |jac: &Jacobian, dense: &dyn Fn(&Segment) -> bool| {
         // into the storage of an earlier step (two frames), which pack clears
         let (mut frames, mut earlier) = (Vec::new(), Jacobian::with_rows(4));
         good(&mut earlier);
-        assert!(frames::pack(&earlier, earlier.segments(), |_| true, &mut frames));
-        frames::pack(&jac, jac.segments(), dense, &mut frames).then_some(frames.len())
+        assert_eq!(frames::pack(&earlier, earlier.segments(), |_| true, &mut frames, |_| {}), 6);
+        (frames::pack(jac, jac.segments(), dense, &mut frames, |_| {}), frames.len())
     };
-    assert_eq!(packed(&|_| {}, &dense), Some(2));
-    let bad: [&dyn Fn(&mut Jacobian); 4] = [
-        &|jac| [(4, n), (5, n)].iter().for_each(|&(r, d)| jac.push_slice(r, 0, 0, &[d.x, d.y, 0.1])),
-        &|jac| {
-            for (start, sign, (nv, tv)) in [(0, 1.0, (na, ta)), (3, -1.0, (nb, tb))] {
-                [(4, nv), (5, tv), (6, [0.0, 0.0, sign])]
-                    .iter()
-                    .for_each(|(r, v)| jac.push_slice(*r, start / 3, start, v));
-            }
-        },
-        &|jac| {
-            jac.push_slice(4, 3, 9, &[n.x, n.y, 0.1, 0.2]);
-            jac.push_slice(5, 3, 9, &[cw(n).x, cw(n).y, 0.1, 0.2]);
-        },
-        &|jac| jac.push_slice(4, 0, 0, &na),
+    let none: &dyn Fn(&mut Jacobian) = &|_| {}; // no more segments
+    assert_eq!(packed(&jacobian(none), &dense), (6, 2));
+    type Extra<'a> = &'a dyn Fn(&mut Jacobian);
+    let cases: [(Extra, usize); 4] = [
+        (&|jac| [(4, n), (5, n)].iter().for_each(|&(r, d)| jac.push_slice(r, 0, 0, &[d.x, d.y, 0.1])), 6),
+        (
+            &|jac| {
+                for (start, sign, (nv, tv)) in [(0, 1.0, (na, ta)), (3, -1.0, (nb, tb))] {
+                    [(4, nv), (5, tv), (6, [0.0, 0.0, sign])]
+                        .iter()
+                        .for_each(|(r, v)| jac.push_slice(*r, start / 3, start, v));
+                }
+            },
+            8,
+        ),
+        (
+            &|jac| {
+                jac.push_slice(4, 3, 9, &[n.x, n.y, 0.1, 0.2]);
+                jac.push_slice(5, 3, 9, &[cw(n).x, cw(n).y, 0.1, 0.2]);
+            },
+            6,
+        ),
+        (&|jac| jac.push_slice(4, 0, 0, &na), 6),
     ];
-    for (i, extra) in bad.iter().enumerate() {
-        assert_eq!(packed(extra, &dense), None, "case {i}");
+    let (_, _, _, blocks) = rigid_disks(3);
+    for (i, (extra, count)) in cases.iter().enumerate() {
+        let jac = jacobian(*extra);
+        assert_eq!(packed(&jac, &dense).0, *count, "case {i}");
+        if i == 2 {
+            continue; // (four DOFs: not one of these rigid disks')
+        }
+        let mut diagonal = vec![0.0; jac.rows];
+        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal, &mut Vec::new());
+        let mut serial = vec![0.0; jac.rows];
+        part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
+        assert!(part.frames.is_none(), "case {i}: frames");
+        assert!(diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()), "case {i}: diagonal");
     }
-    assert_eq!(packed(&|_| {}, &|s: &Segment| s.start() != 6), None, "not dense");
+    assert_eq!(packed(&jacobian(none), &|s: &Segment| s.start() != 6).0, 4, "not dense");
 }
