@@ -220,21 +220,29 @@ impl World {
     /// key, with their start gaps; a start overlap that does not grow, by more than 1e-3 of the
     /// limit, is tolerated, since no shorter step can undo it).
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
-    /// penetration only within it. The caller asks only when [`Self::may_penetrate`] holds
-    /// (otherwise no contact can qualify, math note §10.8).
+    /// penetration only within it. Its candidate pairs come from the pairs kept between steps
+    /// (`cache`, the step's own detection's): the sweep's pairs, in its order, without the sweep
+    /// while the bodies stay inside their grown boxes (on the 40,000-disk pile the sweep took
+    /// 5–6 ms of this check, the kept pairs 0.7 ms). The caller asks only when
+    /// [`Self::may_penetrate`] holds (otherwise no contact can qualify, math note §10.8).
     pub(super) fn new_penetration(
         &self,
         before: &[super::detect::Contact],
         threshold: f64,
+        cache: &mut crate::contact::broad::PairCache,
     ) -> Option<Trouble> {
         let limit = self.penetration_limit();
-        let found = crate::contact::detect(&self.shapes(), &self.fixed(), threshold);
-        found.into_iter().find_map(|g| {
+        let (shapes, fixed) = (self.shapes(), self.fixed());
+        let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);
+        // the start overlap is looked up only for a contact deeper than the limit (a bisection
+        // for every contact's key cost 7–9 ms on the 40,000-disk pile)
+        found.into_iter().filter(|g| -g.g0 > limit).find_map(|g| {
             let start = before
                 .binary_search_by_key(&g.key, |c| c.geom.key)
                 .map_or(0.0, |i| (-before[i].geom.g0).max(0.0));
             let depth = -g.g0;
-            (depth > limit && depth > start + 1e-3 * limit).then(|| Trouble::Penetration {
+            (depth > start + 1e-3 * limit).then(|| Trouble::Penetration {
                 body_a: self.bodies[g.a].name.clone(),
                 body_b: self.bodies[g.b].name.clone(),
                 depth,

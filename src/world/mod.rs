@@ -222,7 +222,10 @@ impl World {
         let kinetic_energy = self.update(&motion, dt);
         self.time = t1;
         self.started = true;
-        if let Some(trouble) = may_penetrate.then(|| self.new_penetration(&contacts, threshold)).flatten() {
+        let mut pairs = std::mem::take(&mut self.pipeline.pairs);
+        let penetration = may_penetrate.then(|| self.new_penetration(&contacts, threshold, &mut pairs));
+        self.pipeline.pairs = pairs;
+        if let Some(trouble) = penetration.flatten() {
             if adaptive {
                 return Err(trouble.into());
             }
