@@ -203,11 +203,11 @@ impl BodyPart {
     ) -> (usize, bool) {
         let Blocks { rigid, kinv, all_rigid, .. } = &*self.blocks;
         let dense = |s: &Segment| rigid[s.cluster()] as usize == 3 * s.start();
-        let packed = match all_rigid {
-            true => frames::pack(jac, &jac.segments()[segs.clone()], dense, frames, |f| {
-                frames::add_diagonal(f, kinv, diagonal, row0)
-            }),
-            false => 0,
+        let packed = if *all_rigid {
+            let add = |f: &Frame| frames::add_diagonal(f, kinv, diagonal, row0);
+            frames::pack(jac, &jac.segments()[segs.clone()], dense, frames, add)
+        } else {
+            0
         };
         if packed == segs.len() {
             return (packed, true);
