@@ -164,10 +164,9 @@ pub fn detect_in(
     depth: f64,
 ) -> Vec<ContactGeom> {
     let found = detect_in_order(shapes, &pairs, reach, depth);
-    match found.order {
-        None => found.halves.into_iter().flatten().collect(),
-        Some(order) => order.into_iter().map(|k| found.halves[0][k].clone()).collect(),
-    }
+    let mut contacts = Vec::with_capacity(found.count());
+    found.for_each(|c| contacts.push(c));
+    contacts
 }
 
 /// From this many candidate pairs on, [`detect_in_order`] runs the narrow phase in two halves
@@ -181,6 +180,23 @@ const HALVES_FROM: usize = 8_000;
 pub(crate) struct InOrder {
     pub halves: [Vec<ContactGeom>; 2],
     pub order: Option<Vec<usize>>,
+}
+
+impl InOrder {
+    /// How many contacts were found.
+    pub fn count(&self) -> usize {
+        self.halves.iter().map(Vec::len).sum()
+    }
+
+    /// `f` on each contact in key order: as found when that is key order, else through the
+    /// indices.
+    pub fn for_each(self, mut f: impl FnMut(ContactGeom)) {
+        let InOrder { halves, order } = self;
+        match order {
+            None => halves.into_iter().flatten().for_each(f),
+            Some(order) => order.into_iter().for_each(|k| f(halves[0][k].clone())),
+        }
+    }
 }
 
 /// [`detect_in`]'s contacts in the order the pairs gave them, and the indices that read them in
@@ -315,11 +331,10 @@ mod tests {
             fixed[0] = true;
             let pairs = broad::candidate_pairs(&shapes, &fixed, 0.1);
             assert!(pairs.len() >= HALVES_FROM, "{} pairs", pairs.len());
-            let read = |found: InOrder| -> Vec<ContactGeom> {
-                match found.order {
-                    None => found.halves.into_iter().flatten().collect(),
-                    Some(order) => order.iter().map(|&k| found.halves[0][k].clone()).collect(),
-                }
+            let read = |found: InOrder| {
+                let mut contacts = Vec::new();
+                found.for_each(|c| contacts.push(c));
+                contacts
             };
             let (halves, serial) = (
                 in_order(&shapes, &pairs, 0.1, 0.1, HALVES_FROM),

@@ -368,10 +368,7 @@ impl BodyPart {
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
-        match &self.frames {
-            Some([f, _]) => frames::scatter_frames(f, z, u),
-            None => scatter(jac, segs.clone(), z, u),
-        }
+        self.scatter_half(jac, 0, segs.clone(), z, u);
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
             for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
@@ -407,13 +404,9 @@ impl BodyPart {
         let (u1, rest) = work.split_at_mut(n);
         let (u2, v) = rest.split_at_mut(n);
         let (first, second) = jac.segments().split_at(self.split);
-        let frames = self.frames.as_ref();
         let sum = |half: usize, segs, u: &mut [f64]| {
             u.fill(0.0);
-            match frames {
-                Some(f) => frames::scatter_frames(&f[half], z, u),
-                None => scatter(jac, segs, z, u),
-            }
+            self.scatter_half(jac, half, segs, z, u);
         };
         micropool::join(|| sum(0, first, u1), || sum(1, second, u2));
         let (u1, u2) = (&*u1, &*u2);
@@ -426,16 +419,32 @@ impl BodyPart {
         );
         let (v, row) = (&*v, second[0].row());
         let (o1, o2) = out.split_at_mut(row);
-        let gather = |half: usize, segs, out: &mut [f64], offset| {
+        let read = |half: usize, segs, out: &mut [f64], offset| {
             if clear {
                 out.fill(0.0);
             }
-            match frames {
+            match &self.frames {
                 Some(f) => frames::gather_frames(&f[half], v, out, offset),
                 None => gather(jac, segs, v, out, offset),
             }
         };
-        micropool::join(|| gather(0, first, o1, 0), || gather(1, second, o2, row));
+        micropool::join(|| read(0, first, o1, 0), || read(1, second, o2, row));
+    }
+
+    /// u += Bᵀ z over half `half` of the frames when B packed into them, else over the
+    /// segments `segs` (the same sums).
+    fn scatter_half<'a>(
+        &self,
+        jac: &Jacobian,
+        half: usize,
+        segs: impl IntoIterator<Item = &'a Segment>,
+        z: &[f64],
+        u: &mut [f64],
+    ) {
+        match &self.frames {
+            Some(f) => frames::scatter_frames(&f[half], z, u),
+            None => scatter(jac, segs, z, u),
+        }
     }
 
     /// v[start_b - offset..] = K̃_b⁻¹ (u1 + u2)[start_b..] for the bodies b of `bodies`.

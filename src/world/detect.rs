@@ -131,7 +131,7 @@ impl World {
         // warm step of the 10,000-disk pile); joint partners after it, if any
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
-        let n = geoms.halves.iter().map(Vec::len).sum();
+        let n = geoms.count();
         let mut found = Detected { contacts: Vec::with_capacity(n), brief: Vec::with_capacity(n) };
         let (mut warm, mut laws, mut lin) =
             (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n));
@@ -156,10 +156,7 @@ impl World {
             found.contacts.push(c);
         };
         // as found when that is key order (no indices), else through the indices
-        match geoms.order {
-            None => geoms.halves.into_iter().flatten().for_each(&mut add),
-            Some(order) => order.into_iter().for_each(|k| add(geoms.halves[0][k].clone())),
-        }
+        geoms.for_each(&mut add);
         if joints {
             let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
             for (l, p) in laws.iter_mut().zip(partners) {
