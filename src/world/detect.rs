@@ -155,8 +155,13 @@ impl World {
             laws.push(law);
             found.contacts.push(c);
         };
-        // as found when that is key order (no indices), else through the indices
-        geoms.for_each(&mut add);
+        // as found when that is key order (no indices), else through the indices: `InOrder::
+        // for_each`'s two arms written out, so that `add` is inlined in both loops (through
+        // `for_each` it was not: 12 M more instructions over 120 steps of the 1,000-disk pile)
+        match geoms.order {
+            None => geoms.halves.into_iter().flatten().for_each(&mut add),
+            Some(order) => order.into_iter().for_each(|k| add(geoms.halves[0][k].clone())),
+        }
         if joints {
             let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
             for (l, p) in laws.iter_mut().zip(partners) {
