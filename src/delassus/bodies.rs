@@ -13,115 +13,20 @@
 //! stack of 1e12 (`tests/mass_ratio.rs`) the irrational entries of B R add rounding to the
 //! cancelling contact forces of the light block, and two steps no longer converged.
 
+use super::blocks::{Blocks, NONE};
 use super::cut::split_of;
 use super::frames::{self, Frame, gather, scatter};
 use crate::body::MAX_DOF;
-use crate::cluster::{Flexibility, block_times};
-use crate::dofs::DofMap;
+use crate::cluster::block_times;
 use crate::jacobian::{Jacobian, Segment, dot, dot_n, range_n, range_n_mut};
 use std::ops::Range;
 use std::sync::{Arc, Mutex};
 
-/// A cluster's entry in `BodyPart::compact` when it is not in body form.
-const NONE: u32 = u32::MAX;
-
 /// From this many segments on, a product over a scene of single bodies runs in two halves on
-/// both cores ([`BodyPart::halves`]). The 1,000-disk pile has about 12,000 segments, which stay
+/// both cores ([`BodyPart::apply`], [`BodyPart::response`]). The 1,000-disk pile has about 12,000 segments, which stay
 /// in one core's cache and take some 50 µs a product; the 10,000-disk pile about 120,000, whose
 /// 5 MB do not (`benches/vi.rs`, group `body_form_product`: 517 µs on one thread, 273 on two).
 const HALVES_FROM: usize = 40_000;
-
-/// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
-/// from the factors once and kept across steps while the factors and DOF ranges stay the same
-/// ([`Blocks::current`]; math note §3.3). On a pile of rigid disks that is the whole run; the
-/// copy each step cost 30–60 µs of a 1.4 ms fixed work on the 1,000-disk pile.
-#[derive(Debug, Default)]
-pub(super) struct Blocks {
-    /// The stamps of the factors copied ([`Flexibility::stamps`]).
-    stamps: Vec<u64>,
-    /// Per cluster, its body (compact index), or `NONE`.
-    compact: Vec<u32>,
-    /// Per cluster, where its K̃_c⁻¹ starts in `kinv` when it is a rigid body in body form (3
-    /// DOFs), or `NONE`: the diagonal's common case in one load.
-    rigid: Vec<u32>,
-    /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
-    /// (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from `kinv[square[b]..]` and
-    /// `root[square[b]..]`. `kinv` is the flexibility's own packed K̃_c⁻¹ of the closed-form
-    /// clusters ([`Flexibility::closed`]), shared, not copied; `root` is laid out at the same
-    /// offsets.
-    start: Vec<usize>,
-    n: Vec<usize>,
-    square: Vec<usize>,
-    /// Per body, its first entry in packed n_c(n_c + 1)/2 lower triangles (`bodies + 1` offsets).
-    packed: Vec<usize>,
-    kinv: Arc<Vec<f64>>,
-    root: Vec<f64>,
-    /// Every body has 3 DOFs (a pile of rigid bodies) and its block follows the last one: K̃_c⁻¹
-    /// of body b is `kinv[9 b..9 b + 9]`.
-    all_rigid: bool,
-    /// The length of the body vectors (B's columns).
-    dofs: usize,
-}
-
-impl Blocks {
-    /// The blocks of the clusters with `body[c]` (each a single body with a closed-form K̃⁻¹).
-    pub fn new(flex: &Flexibility, map: &DofMap, body: &[bool]) -> Blocks {
-        let mut blocks = Blocks {
-            stamps: flex.stamps().to_vec(),
-            compact: vec![NONE; body.len()],
-            rigid: vec![NONE; body.len()],
-            packed: vec![0],
-            dofs: map.total(),
-            ..Default::default()
-        };
-        let count = body.iter().filter(|&&b| b).count();
-        blocks.start.reserve(count);
-        blocks.n.reserve(count);
-        blocks.square.reserve(count);
-        blocks.packed.reserve(count);
-        for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
-            if let ((kinv, Some(at)), Some(r)) = (flex.closed(c), flex.body_root(c)) {
-                let (range, b) = (map.cluster_range(c), blocks.n.len());
-                let n = range.len();
-                if blocks.root.is_empty() {
-                    (blocks.kinv, blocks.root) = (Arc::clone(kinv), vec![0.0; kinv.len()]);
-                }
-                blocks.compact[c] = b as u32;
-                if n == 3 {
-                    blocks.rigid[c] = at as u32;
-                }
-                blocks.start.push(range.start);
-                blocks.n.push(n);
-                blocks.square.push(at);
-                // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
-                // instructions of a 21 M warm step on the 1,000-disk pile)
-                for (j, column) in blocks.root[at..at + n * n].chunks_exact_mut(n).enumerate() {
-                    column.copy_from_slice(&r.column(j).as_slice()[..n]);
-                }
-                blocks.packed.push(blocks.packed[b] + n * (n + 1) / 2);
-            }
-        }
-        // (the blocks then lie one after the other, 9 numbers each)
-        blocks.all_rigid =
-            blocks.n.iter().zip(&blocks.square).enumerate().all(|(b, (&n, &s))| n == 3 && s == 9 * b);
-        blocks
-    }
-
-    /// Whether these blocks are what [`Blocks::new`] would make now: the same factors (by
-    /// stamp), the same clusters in body form, at the same DOF ranges.
-    pub fn current(&self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> bool {
-        self.dofs == map.total()
-            && self.stamps == flex.stamps()
-            && self.compact.len() == body.len()
-            && body.iter().zip(&self.compact).enumerate().all(|(c, (&on, &b))| match b {
-                NONE => !on,
-                b => {
-                    on && map.cluster_range(c)
-                        == (self.start[b as usize]..self.start[b as usize] + self.n[b as usize])
-                }
-            })
-    }
-}
 
 /// The body-form clusters' part of W (see the module docs). Its products run over the
 /// operator's own Jacobian (passed in), whose segments on body-form clusters it reads in push
@@ -326,49 +231,107 @@ impl BodyPart {
         count
     }
 
-    /// out += W_bodies z, or out = W_bodies z with `clear`.
+    /// out += W_bodies z, or out = W_bodies z with `clear`: v = K̃⁻¹ Bᵀ z over the bodies
+    /// ([`Self::respond`]), then each row's B v, over the two halves of `split` (each core
+    /// clearing and summing into its own rows) when B has them.
     pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64], clear: bool) {
         let all = jac.segments();
-        if self.count == all.len() && self.split > 0 {
-            // (a split is found only from HALVES_FROM segments on)
-            return self.halves(jac, z, out, clear);
+        // a scene of single bodies: no filter, which would cost each product a load per segment
+        let whole = self.count == all.len();
+        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
+        let n = self.blocks.dofs;
+        guard.resize(3 * n, 0.0);
+        let (u, v) = guard.split_at_mut(2 * n);
+        if whole {
+            self.respond(jac, all.iter(), true, z, u, v);
+        } else {
+            self.respond(jac, self.segs(jac), false, z, u, v);
+        }
+        let v = &*v;
+        if whole && self.split > 0 {
+            let (first, second) = all.split_at(self.split);
+            let row = second[0].row();
+            let (o1, o2) = out.split_at_mut(row);
+            let read = |half: usize, segs, out: &mut [f64], offset| {
+                if clear {
+                    out.fill(0.0);
+                }
+                match &self.frames {
+                    Some(f) => frames::gather_frames(&f[half], v, out, offset),
+                    None => gather(jac, segs, v, out, offset),
+                }
+            };
+            micropool::join(|| read(0, first, o1, 0), || read(1, second, o2, row));
+            return;
         }
         if clear {
             out.fill(0.0);
         }
-        if self.count == all.len() {
-            // a scene of single bodies: no filter, which would cost each product a load per
-            // segment
-            self.product(jac, all.iter(), true, z, out);
-        } else {
-            self.product(jac, self.segs(jac), false, z, out);
+        match &self.frames {
+            Some([f, _]) => frames::gather_frames(f, v, out, 0),
+            // (not `gather`: its offset cost 48 k instructions a warm step of the 1,000-disk pile)
+            None if whole => all.iter().for_each(|s| out[s.row()] += jac.dot(s, v)),
+            None => self.segs(jac).for_each(|s| out[s.row()] += jac.dot(s, v)),
         }
     }
 
-    /// out += W_bodies z over the segments `segs` (B's segments on body-form clusters; `whole`
-    /// when they are all of B's, so that every DOF is a body's).
-    fn product<'a>(
+    /// out = K̃⁻¹ Bᵀ z on the bodies' DOFs (out's other entries untouched) when every segment of
+    /// B is on a body, through the frames when B packed into them and over the two halves of
+    /// `split` when it has them; `false` (out untouched) otherwise. The sums of B's transpose
+    /// product and the flexibility's body solves without halves (`Jacobian::transpose_apply`,
+    /// `Flexibility::solve_in_place`); with them, a body with segments in both halves adds
+    /// its two partial sums.
+    pub fn response(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) -> bool {
+        if self.count != jac.segments().len() {
+            return false;
+        }
+        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
+        guard.resize(2 * self.blocks.dofs, 0.0);
+        self.respond(jac, jac.segments().iter(), true, z, &mut guard, out);
+        true
+    }
+
+    /// v = K̃⁻¹ Bᵀ z on every body (v's other entries untouched) over B's segments `segs` on
+    /// the bodies (`whole` when they are all of B's, so that every DOF is a body's), with `u`
+    /// (twice the bodies' DOFs) for Bᵀ z. For a whole scene in two halves of B's segments whose
+    /// rows do not overlap (`split`): each half's generalized forces on a core of its own, and
+    /// half the bodies' solves on each. Each half sums into its own u, and a body adds the two,
+    /// so that no sum depends on the threads that ran it (one thread gives the same bits).
+    fn respond<'a>(
         &self,
         jac: &Jacobian,
         segs: impl Iterator<Item = &'a Segment> + Clone,
         whole: bool,
         z: &[f64],
-        out: &mut [f64],
+        u: &mut [f64],
+        v: &mut [f64],
     ) {
         let Blocks { start, n: ns, dofs: n, .. } = &*self.blocks;
-        let n = *n;
-        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
-        let work = &mut *guard;
-        // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's);
-        // v is written body by body
-        work.resize(2 * n, 0.0);
-        let (u, v) = work.split_at_mut(n);
+        let (u, u2) = u.split_at_mut(*n);
+        if whole && self.split > 0 {
+            let (first, second) = jac.segments().split_at(self.split);
+            let sum = |half: usize, segs, u: &mut [f64]| {
+                u.fill(0.0);
+                self.scatter_half(jac, half, segs, z, u);
+            };
+            micropool::join(|| sum(0, first, u), || sum(1, second, u2));
+            let (u1, u2) = (&*u, &*u2);
+            let half = start.len() / 2;
+            let at = start.get(half).copied().unwrap_or(*n);
+            let (v1, v2) = v.split_at_mut(at);
+            micropool::join(
+                || self.solve_sums(0..half, u1, u2, v1, 0),
+                || self.solve_sums(half..start.len(), u1, u2, v2, at),
+            );
+            return;
+        }
+        // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's)
         if whole {
             u.fill(0.0);
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
         }
-        self.scatter_half(jac, 0, segs.clone(), z, u);
+        self.scatter_half(jac, 0, segs, z, u);
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
             for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
@@ -380,55 +343,6 @@ impl BodyPart {
                 self.solve(b, &u[r.clone()], &mut v[r]);
             }
         }
-        if let Some([f, _]) = &self.frames {
-            return frames::gather_frames(f, v, out, 0);
-        }
-        // (not `gather`: its offset cost 48 k instructions a warm step of the 1,000-disk pile)
-        for s in segs {
-            out[s.row()] += jac.dot(s, v);
-        }
-    }
-
-    /// out += W_bodies z for a scene of single bodies (every segment on one) in two halves of
-    /// B's segments whose rows do not overlap (`split`): each half's generalized forces u and
-    /// its rows' products on a core of its own, and half the bodies' solves on each. Each half
-    /// sums into its own u, and a body adds the two, so that no sum depends on the threads
-    /// that ran it (one thread gives the same bits). With `clear`, each half first clears its
-    /// rows of `out`.
-    fn halves(&self, jac: &Jacobian, z: &[f64], out: &mut [f64], clear: bool) {
-        let Blocks { start, dofs: n, .. } = &*self.blocks;
-        let n = *n;
-        let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
-        let work = &mut *guard;
-        work.resize(3 * n, 0.0);
-        let (u1, rest) = work.split_at_mut(n);
-        let (u2, v) = rest.split_at_mut(n);
-        let (first, second) = jac.segments().split_at(self.split);
-        let sum = |half: usize, segs, u: &mut [f64]| {
-            u.fill(0.0);
-            self.scatter_half(jac, half, segs, z, u);
-        };
-        micropool::join(|| sum(0, first, u1), || sum(1, second, u2));
-        let (u1, u2) = (&*u1, &*u2);
-        let half = start.len() / 2;
-        let at = start.get(half).copied().unwrap_or(n);
-        let (v1, v2) = v.split_at_mut(at);
-        micropool::join(
-            || self.solve_sums(0..half, u1, u2, v1, 0),
-            || self.solve_sums(half..start.len(), u1, u2, v2, at),
-        );
-        let (v, row) = (&*v, second[0].row());
-        let (o1, o2) = out.split_at_mut(row);
-        let read = |half: usize, segs, out: &mut [f64], offset| {
-            if clear {
-                out.fill(0.0);
-            }
-            match &self.frames {
-                Some(f) => frames::gather_frames(&f[half], v, out, offset),
-                None => gather(jac, segs, v, out, offset),
-            }
-        };
-        micropool::join(|| read(0, first, o1, 0), || read(1, second, o2, row));
     }
 
     /// u += Bᵀ z over half `half` of the frames when B packed into them, else over the

@@ -27,6 +27,7 @@ use bodies::BodyPart;
 use sprs::CsMat;
 use std::sync::Arc;
 
+mod blocks;
 mod bodies;
 mod cut;
 mod frames;
@@ -71,18 +72,18 @@ pub struct Scratch {
     /// of its cluster.
     cursors: Vec<(usize, usize, usize)>,
     /// The body form's packed blocks, kept across steps while they stay current.
-    blocks: Option<Arc<bodies::Blocks>>,
+    blocks: Option<Arc<blocks::Blocks>>,
     /// Storage for the body form's contact frames, returned by [`ContactOperator::recycle`].
     frames: Vec<Vec<frames::Frame>>,
 }
 
 impl Scratch {
     /// The body form's blocks for the clusters with `body[c]`: the kept ones while they are
-    /// current ([`bodies::Blocks::current`]), else new ones, kept for the next call.
-    fn blocks(&mut self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> Arc<bodies::Blocks> {
+    /// current ([`blocks::Blocks::current`]), else new ones, kept for the next call.
+    fn blocks(&mut self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> Arc<blocks::Blocks> {
         match &self.blocks {
             Some(b) if b.current(flex, map, body) => Arc::clone(b),
-            _ => Arc::clone(self.blocks.insert(Arc::new(bodies::Blocks::new(flex, map, body)))),
+            _ => Arc::clone(self.blocks.insert(Arc::new(blocks::Blocks::new(flex, map, body)))),
         }
     }
 }
@@ -178,6 +179,13 @@ impl ContactOperator {
     pub fn recycle(self, scratch: &mut Scratch) -> Jacobian {
         self.bodies.recycle(&mut scratch.frames);
         self.jac
+    }
+
+    /// out = K̃⁻¹ Bᵀ z on the body form's bodies (out's other entries untouched) when every row
+    /// of B is on them, with the sums of `Jacobian::transpose_apply` and the flexibility's
+    /// solves below the body form's halves (`bodies.rs`); `false` (out untouched) otherwise.
+    pub fn response(&self, z: &[f64], out: &mut [f64]) -> bool {
+        self.bodies.response(&self.jac, z, out)
     }
 
     /// The largest entry of diag(W) (0 for no rows).

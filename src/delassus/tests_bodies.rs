@@ -1,7 +1,9 @@
-//! The body form's product in halves (`BodyPart::halves`, math note §3.3).
+//! The body form's product in halves (`BodyPart::apply` over the halves of `split`, math note §3.3).
 
 use super::*;
 use crate::body::Body;
+use crate::cluster::Flexibility;
+use crate::dofs::DofMap;
 use crate::geometry::{Vec2, cw};
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
@@ -46,7 +48,11 @@ fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
 /// added to. Every order packs into contact frames (`frames.rs`; the wall's contact into one of
-/// one body), whose products and diagonal have the bits of the segments'.
+/// one body), whose products and diagonal have the bits of the segments'. The response K̃⁻¹ Bᵀ z
+/// (`BodyPart::response`) has the bits of B's transpose product and the flexibility's solves
+/// where there is no cut (the same sums in the same order), and equals them to 1e-12 of its
+/// largest entry over the halves (a body with segments on both sides adds two partial sums),
+/// with the same bits on one thread and two and over frames or segments.
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
@@ -111,6 +117,7 @@ fn products_split_only_where_no_row_straddles() {
         assert!(same(&on(&part, 1, false)), "split {split}: threads");
         assert!(same(&on(&part, 1, true)) && same(&on(&part, 2, true)), "split {split}: clearing");
         assert!(same(&on(&plain, 2, false)) && same(&on(&plain, 1, true)), "split {split}: segments");
+        response_matches_the_transpose_product(&part, &plain, &jac, &z, &flex, &map);
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
         let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -127,6 +134,54 @@ fn products_split_only_where_no_row_straddles() {
             );
         }
     }
+}
+
+/// The response checks of `products_split_only_where_no_row_straddles` (see there).
+fn response_matches_the_transpose_product(
+    part: &BodyPart,
+    plain: &BodyPart,
+    jac: &Jacobian,
+    z: &[f64],
+    flex: &Flexibility,
+    map: &DofMap,
+) {
+    let mut want = vec![0.0; map.total()];
+    jac.transpose_apply(z, |_| true, &mut want);
+    flex.solve_in_place(map, &mut want);
+    let on = |part: &BodyPart, threads: usize| {
+        let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
+        let mut out = vec![0.0; map.total()];
+        assert!(pool.install(|| part.response(jac, z, &mut out)), "every segment on a body");
+        out
+    };
+    let got = on(part, 2);
+    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(bits(&on(part, 1), &got) && bits(&on(plain, 2), &got), "split {}: response bits", part.split);
+    if part.split == 0 {
+        assert!(bits(&got, &want), "response without halves");
+    }
+    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(
+        got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale),
+        "split {}: response",
+        part.split
+    );
+}
+
+/// With a body outside the body form, its segments are not the body part's: it gives no response
+/// (out untouched), and the caller takes B's transpose product. Two disks, one contact.
+#[test]
+fn no_response_unless_every_segment_is_on_a_body() {
+    let (bodies, map, flex, _) = rigid_disks(2);
+    let mut jac = Jacobian::with_rows(1);
+    for (body, sign) in [(0, 1.0), (1, -1.0)] {
+        jac.push(0, body, 3 * body, 3, bodies[body].shape_row(Vec2::new(0.5, 0.0), Vec2::x()) * sign);
+    }
+    let blocks = Arc::new(Blocks::new(&flex, &map, &[true, false]));
+    let part = BodyPart::new(&jac, blocks, &mut [0.0; 1], &mut Vec::new());
+    let mut out = vec![f64::NAN; map.total()];
+    assert!(!part.response(&jac, &[1.0], &mut out));
+    assert!(out.iter().all(|x| x.is_nan()));
 }
 
 /// Contact frames (`frames::pack`) only where each frame gives back its segments' entries bit

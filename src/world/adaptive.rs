@@ -227,7 +227,7 @@ impl World {
     /// [`Self::may_penetrate`] holds (otherwise no contact can qualify, math note §10.8).
     pub(super) fn new_penetration(
         &self,
-        before: &[super::detect::Contact],
+        before: &super::detect::Geoms,
         threshold: f64,
         cache: &mut crate::contact::broad::PairCache,
     ) -> Option<Trouble> {
@@ -238,9 +238,7 @@ impl World {
         // the start overlap is looked up only for a contact deeper than the limit (a bisection
         // for every contact's key cost 7–9 ms on the 40,000-disk pile)
         found.into_iter().filter(|g| -g.g0 > limit).find_map(|g| {
-            let start = before
-                .binary_search_by_key(&g.key, |c| c.geom.key)
-                .map_or(0.0, |i| (-before[i].geom.g0).max(0.0));
+            let start = before.find(&g.key).map_or(0.0, |b| (-b.g0).max(0.0));
             let depth = -g.g0;
             (depth > start + 1e-3 * limit).then(|| Trouble::Penetration {
                 body_a: self.bodies[g.a].name.clone(),

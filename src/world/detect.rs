@@ -5,23 +5,46 @@ use super::rows::Linearization;
 use crate::contact::broad::PairCache;
 use crate::contact::law::Law;
 use crate::contact::set::{ContactMemory, InterfaceTable, Memory, joint_partners};
-use crate::contact::{ContactGeom, ContactKind, detect, detect_in_order, label_mesh_kind};
+use crate::contact::{ContactGeom, ContactKey, ContactKind, detect, detect_in_order, label_mesh_kind};
 use crate::model::Interface;
 
-/// A detected contact's geometry. Immutable once detected; the solve stages linearize it (see
-/// `rows.rs`). Its law is [`Inputs::laws`]' entry of the same index, and what it remembers from
-/// the last step went into the warm start and its [`Brief`]: on the 10,000-disk pile each byte
-/// here is written 30,000 times a step (law and memory in it made it 216 bytes, not 120).
-pub(super) struct Contact {
-    pub geom: ContactGeom,
-    /// g0 as the solver sees it ([`solver_gap`]): a gap or penetration within the allowance
-    /// counts as touching; beyond it, a persistent contact's by its excess (math note §10.2).
-    pub start_gap: f64,
+/// A trial's contacts' geometries in key order, where the narrow phase left them: the contacts
+/// of its first half of the pairs, then those of its second (`contact::InOrder`), or all in the
+/// first when they had to be sorted. Immutable once detected; the solve stages linearize them
+/// (see `rows.rs`). Contact k's law is [`Inputs::laws`]' entry k, and what it remembers from the
+/// last step went into the warm start and its [`Brief`]. Not copied into one vector of their
+/// own: on the 10,000-disk pile that copy wrote 120 bytes for each of 30,000 contacts a step.
+pub(super) struct Geoms([Vec<ContactGeom>; 2]);
+
+impl Geoms {
+    pub fn len(&self) -> usize {
+        self.0[0].len() + self.0[1].len()
+    }
+
+    /// Contact k's geometry.
+    pub fn get(&self, k: usize) -> &ContactGeom {
+        let first = &self.0[0];
+        if k < first.len() { &first[k] } else { &self.0[1][k - first.len()] }
+    }
+
+    /// The geometries in key order (a chain of two slices, whose length `collect` allocates at
+    /// once: `flatten` gave no length, and collecting the records grew their vector by copies).
+    pub fn iter(&self) -> impl Iterator<Item = &ContactGeom> {
+        let [first, second] = &self.0;
+        first.iter().chain(second)
+    }
+
+    /// The geometry with key `key`, if detected.
+    pub fn find(&self, key: &ContactKey) -> Option<&ContactGeom> {
+        let [first, second] = &self.0;
+        let half = if second.first().is_some_and(|g| g.key <= *key) { second } else { first };
+        half.binary_search_by_key(key, |g| g.key).ok().map(|i| &half[i])
+    }
 }
 
 /// What the solve stages read of a contact on each of their passes (rows, classification,
-/// refinement, velocity gaps), in 24 bytes against a [`Contact`]'s 120: on the 10,000-disk pile
-/// the contacts no longer fit the caches, and each pass over them cost 0.3–0.6 ms of a warm step.
+/// refinement, velocity gaps), in 24 bytes against a geometry's 112: on the 10,000-disk pile the
+/// contacts no longer fit the caches, and each pass over them cost 0.3–0.6 ms of a warm step.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Brief {
     a: u32,
@@ -32,21 +55,22 @@ pub(super) struct Brief {
     pub bonded: bool,
     /// Closed at the end of the last step.
     pub was_closed: bool,
-    /// [`Contact::start_gap`].
+    /// g0 as the solver sees it ([`solver_gap`]): a gap or penetration within the allowance
+    /// counts as touching; beyond it, a persistent contact's by its excess (math note §10.2).
     pub start_gap: f64,
 }
 
 impl Brief {
     /// (u32 indices, as B's segments: `jacobian.rs`.)
-    fn of(c: &Contact, law: &Law, memory: Option<Memory>) -> Brief {
+    fn of(geom: &ContactGeom, start_gap: f64, law: &Law, memory: Option<Memory>) -> Brief {
         Brief {
-            a: c.geom.a as u32,
-            b: c.geom.b as u32,
+            a: geom.a as u32,
+            b: geom.b as u32,
             row: law.row as u32,
             rows: law.rows() as u8,
             bonded: law.bonded,
             was_closed: memory.is_some_and(|m| m.closed),
-            start_gap: c.start_gap,
+            start_gap,
         }
     }
 
@@ -73,7 +97,7 @@ impl Brief {
 
 /// A trial's contacts, detected sorted by key, and their [`Brief`]s.
 pub(super) struct Detected {
-    pub contacts: Vec<Contact>,
+    pub geoms: Geoms,
     pub brief: Vec<Brief>,
 }
 
@@ -132,42 +156,41 @@ impl World {
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
         let n = geoms.count();
-        let mut found = Detected { contacts: Vec::with_capacity(n), brief: Vec::with_capacity(n) };
-        let (mut warm, mut laws, mut lin) =
-            (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let mut add = |mut geom: ContactGeom| {
+        let (mut warm, mut laws, mut lin, mut brief) =
+            (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let mut add = |geom: &mut ContactGeom| {
             if any_mesh {
-                label_mesh_kind(&mut geom, &meshes);
+                label_mesh_kind(geom, &meshes);
             }
             joints |= geom.joint.is_some();
             let memory = memory.get(&geom.key);
-            let law = self.law(&geom, interfaces.get(materials[geom.a], materials[geom.b]), memory, row);
+            let law = self.law(geom, interfaces.get(materials[geom.a], materials[geom.b]), memory, row);
             row += law.rows();
             let start_gap = solver_gap(geom.g0, self.allowance, memory.is_some());
-            let c = Contact { geom, start_gap };
             let force = memory.map_or([0.0; 3], |m| m.force);
             warm.extend([force[0], force[1]]);
             if law.rows() == 3 {
                 warm.push(force[2]);
             }
-            lin.push(Linearization::initial(&c));
-            found.brief.push(Brief::of(&c, &law, memory));
+            lin.push(Linearization::initial(geom, start_gap));
+            brief.push(Brief::of(geom, start_gap, &law, memory));
             laws.push(law);
-            found.contacts.push(c);
         };
-        // as found when that is key order (no indices), else through the indices: `InOrder::
-        // for_each`'s two arms written out, so that `add` is inlined in both loops (through
-        // `for_each` it was not: 12 M more instructions over 120 steps of the 1,000-disk pile)
-        match geoms.order {
-            None => geoms.halves.into_iter().flatten().for_each(&mut add),
-            Some(order) => order.into_iter().for_each(|k| add(geoms.halves[0][k].clone())),
-        }
+        // as found when that is key order, else sorted through the indices (a copy, where
+        // `InOrder::for_each` would move each into a vector of its own all the same)
+        let halves = match geoms.order {
+            None => geoms.halves,
+            Some(order) => [order.into_iter().map(|k| geoms.halves[0][k].clone()).collect(), Vec::new()],
+        };
+        let mut geoms = Geoms(halves);
+        geoms.0.iter_mut().flatten().for_each(&mut add);
         if joints {
-            let partners = joint_partners(found.contacts.iter().map(|c| &c.geom));
+            let partners = joint_partners((0..geoms.len()).map(|k| geoms.get(k)));
             for (l, p) in laws.iter_mut().zip(partners) {
                 l.partner = p;
             }
         }
+        let found = Detected { geoms, brief };
         (found, Inputs { warm, laws, lin }, threshold)
     }
 

@@ -4,7 +4,7 @@
 //! ```text
 //!   flexibility   K̃ per cluster, factorized (cached)              cluster.rs   (math note §1.2, §10.6)
 //! 1 predict       d^f = K̃⁻¹ f  (global DOF vector)                predict.rs   (§1.2, §2.4)
-//! 2 detect        broad + narrow phase -> [Contact] with laws     detect.rs    (§5, §4)
+//! 2 detect        broad + narrow phase -> geometries with laws    detect.rs    (§5, §4)
 //! 3 rows          [Linearization] -> Rows: B, q, blocks, W        rows.rs      (§3.1, §10.1)
 //! 4 solve         VI solve 1 (geometry), refined on the mid-step   solve.rs,    (§4, §1.3, §10.1-10.5)
 //!                 configuration (new rows each time), solve 2     refine.rs
@@ -264,7 +264,7 @@ impl World {
         clock: &mut Clock,
         stages: &mut StageTimes,
         events: &mut Vec<Event>,
-    ) -> Result<(Vec<detect::Contact>, solve::Solved, update::Motion, f64), adaptive::Failure> {
+    ) -> Result<(detect::Geoms, solve::Solved, update::Motion, f64), adaptive::Failure> {
         let step = self.step_index + 1;
         loop {
             let couplings = self.couplings();
@@ -285,12 +285,12 @@ impl World {
             self.check_finite(&motion)?;
             let joints = self.breakage(&solved);
             if joints.contains(&true) {
-                events.extend(self.breakage_events(&found.contacts, &joints, step));
+                events.extend(self.breakage_events(&found.geoms, &joints, step));
                 continue;
             }
             let broke = self.break_connectors(&motion.dbar, step);
             if broke.is_empty() {
-                return Ok((found.contacts, solved, motion, threshold));
+                return Ok((found.geoms, solved, motion, threshold));
             }
             events.extend(broke);
             self.renumber();

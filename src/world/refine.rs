@@ -94,8 +94,7 @@ impl World {
         if 2.0 * reach.iter().copied().fold(0.0, f64::max) <= still {
             return None;
         }
-        let contacts = &found.contacts;
-        let watched: Vec<usize> = (0..contacts.len())
+        let watched: Vec<usize> = (0..found.brief.len())
             .filter(|&k| {
                 let (r, [a, b]) = (found.brief[k].row(), found.brief[k].bodies());
                 // contacts on a mesh keep their step-start rows (no mid-step refinement yet); the
@@ -121,15 +120,14 @@ impl World {
         let mut patches = Vec::with_capacity(watched.len());
         let mut changed = false;
         for k in watched {
-            let c = &contacts[k];
-            let (a, b) = (c.geom.a, c.geom.b);
+            let (c, start_gap) = (found.geoms.get(k), found.brief[k].start_gap);
+            let (a, b) = (c.a, c.b);
             let (Some(ma), Some(mb), Some(ea), Some(eb)) = (&mid[a], &mid[b], &end[a], &end[b]) else {
                 continue;
             };
-            let (Some(m), Some(e)) = (
-                self.same_contact(c.geom.key, ma, mb, a, b, pair),
-                self.same_contact(c.geom.key, ea, eb, a, b, pair),
-            ) else {
+            let (Some(m), Some(e)) =
+                (self.same_contact(c.key, ma, mb, a, b, pair), self.same_contact(c.key, ea, eb, a, b, pair))
+            else {
                 continue;
             };
             let (da, db) = (full(a), full(b));
@@ -140,7 +138,7 @@ impl World {
                 .map(|(&(body, s, d), x)| s * self.bodies[body].shape_row(x, m.normal).dot(d))
                 .sum();
             // the start gap as the solver sees it, plus what the linearization misses
-            let offset = c.start_gap + (e.g0 - c.geom.g0 - linear);
+            let offset = start_gap + (e.g0 - c.g0 - linear);
             let change =
                 (offset - lin[k].offset).abs() + (m.normal - lin[k].normal).norm() * (reach[a] + reach[b]);
             changed |= change > 1e-9 * self.threshold;

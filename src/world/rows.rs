@@ -7,8 +7,9 @@
 //! built.
 
 use super::World;
-use super::detect::{Brief, Contact};
+use super::detect::Brief;
 use crate::body::MAX_DOF;
+use crate::contact::ContactGeom;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
 use crate::jacobian::Jacobian;
@@ -26,8 +27,8 @@ pub(super) struct Linearization {
 impl Linearization {
     /// The step-start linearization: contact point, detected normal, offset = g0 as the
     /// solver sees it.
-    pub fn initial(c: &Contact) -> Linearization {
-        Linearization { normal: c.geom.normal, anchor: [c.geom.point; 2], offset: c.start_gap }
+    pub fn initial(geom: &ContactGeom, start_gap: f64) -> Linearization {
+        Linearization { normal: geom.normal, anchor: [geom.point; 2], offset: start_gap }
     }
 }
 

@@ -2,10 +2,11 @@
 //! configuration (§10.1), then solve 2 (velocity) — and the classification of contacts
 //! (closed, impacting; §10.5).
 
-use super::detect::{Brief, Contact, Detected, Inputs};
+use super::detect::{Brief, Detected, Inputs};
 use super::refine::Refined;
 use super::rows::{Linearization, Rows};
 use super::{Pipeline, SolveKind, Warning, World};
+use crate::contact::ContactGeom;
 use crate::contact::law::Law;
 use crate::vi::{self, Operator, Problem};
 use std::time::Instant;
@@ -254,7 +255,7 @@ impl World {
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind, false);
             let product = gaps.is_some();
             let state = self.classify(found, &rows, &z1, gaps);
-            let dp = self.response(&rows, &z1, |_| true);
+            let dp = self.response(&rows, &z1, None);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
             let motions = self.motions(&dbar);
             let shapes = &mut runner.pipeline.shapes;
@@ -279,7 +280,7 @@ impl World {
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
             // z1 kept bit for bit on solve 1's rows: its response is dp1
             let same = rows2.is_none() && z2.iter().zip(&z1).all(|(a, b)| a.to_bits() == b.to_bits());
-            let dp2 = (!same).then(|| self.response(solve2, &z2, |_| true));
+            let dp2 = (!same).then(|| self.response(solve2, &z2, None));
             (z2, dp2)
         } else {
             (z1.clone(), None)
@@ -338,7 +339,7 @@ impl World {
             bonded |= c.bonded;
             let r = c.row();
             let cl = c.bonded || z[r] > 0.0 || gaps[r] <= touching;
-            if cl && !c.was_closed && self.is_impacting(&found.contacts[k]) {
+            if cl && !c.was_closed && self.is_impacting(found.geoms.get(k)) {
                 impacting_rows[c.rows()].fill(true);
                 impacts = true;
             }
@@ -353,13 +354,13 @@ impl World {
     /// in solve 1 and was not closed at the end of the last step). A slower approach is the
     /// solver's own noise, not an impact: doubling a resting contact's share would push its
     /// bodies into their neighbours.
-    fn is_impacting(&self, c: &Contact) -> bool {
-        let x = c.geom.point;
+    fn is_impacting(&self, c: &ContactGeom) -> bool {
+        let x = c.point;
         let velocity = |b: usize| {
             let body = &self.bodies[b];
             body.displacement(x, &self.v0(body))
         };
-        let rate = c.geom.normal.dot(&(velocity(c.geom.a) - velocity(c.geom.b)));
+        let rate = c.normal.dot(&(velocity(c.a) - velocity(c.b)));
         rate * self.h < -self.allowance
     }
 
@@ -376,16 +377,22 @@ impl World {
     ) -> Vec<f64> {
         let mut d: Vec<f64> = dp.iter().zip(df).map(|(x, f)| x + f).collect();
         if state.impacts {
-            let dimp = self.response(rows, z, |r| state.impacting_rows[r]);
+            let dimp = self.response(rows, z, Some(&state.impacting_rows));
             d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);
         }
         d
     }
 
-    /// K̃⁻¹ Bᵀ z over the rows `keep` selects (paper eq. 22: d^p = K⁻¹ C p).
-    pub(super) fn response(&self, rows: &Rows, z: &[f64], keep: impl Fn(usize) -> bool) -> Vec<f64> {
+    /// K̃⁻¹ Bᵀ z over the rows `keep` selects, all of them with `None` (paper eq. 22: d^p = K⁻¹
+    /// C p).
+    pub(super) fn response(&self, rows: &Rows, z: &[f64], keep: Option<&[bool]>) -> Vec<f64> {
         let mut out = vec![0.0; self.dofs.total()];
-        rows.jac().transpose_apply(z, keep, &mut out);
+        // every row kept, each on a body in body form: through W's bodies (their frames, a third
+        // of B's bytes, and on a large pile both cores)
+        if keep.is_none() && rows.w.response(z, &mut out) {
+            return out;
+        }
+        rows.jac().transpose_apply(z, |r| keep.is_none_or(|k| k[r]), &mut out);
         self.flex.solve_in_place(&self.dofs, &mut out);
         out
     }

@@ -1,7 +1,7 @@
 //! Stage 5 (update the bodies, breakage, contact memory) and the contact part of stage 6.
 
 use super::adaptive::Part;
-use super::detect::Contact;
+use super::detect::Geoms;
 use super::solve::{Increment, Solved};
 use super::{ContactRecord, ContactState, Event, Warning, World};
 use crate::contact::set::{ContactMemory, Memory};
@@ -112,21 +112,16 @@ impl World {
         broken
     }
 
-    pub(super) fn breakage_events(
-        &mut self,
-        contacts: &[Contact],
-        broken: &[bool],
-        step: usize,
-    ) -> Vec<Event> {
+    pub(super) fn breakage_events(&mut self, contacts: &Geoms, broken: &[bool], step: usize) -> Vec<Event> {
         self.keep(Part::Broken);
         let mut events = Vec::new();
         for (c, _) in contacts.iter().zip(broken).filter(|(_, b)| **b) {
-            self.broken.insert(c.geom.key);
+            self.broken.insert(c.key);
             events.push(Event::JointBroke {
                 step,
-                body_a: self.bodies[c.geom.a].name.clone(),
-                body_b: self.bodies[c.geom.b].name.clone(),
-                point: c.geom.point,
+                body_a: self.bodies[c.a].name.clone(),
+                body_b: self.bodies[c.b].name.clone(),
+                point: c.point,
             });
         }
         events
@@ -139,7 +134,7 @@ impl World {
     /// apiece as they were then, cost 0.1–0.2 ms of a warm step of the 10,000-disk pile).
     pub(super) fn close_contacts(
         &mut self,
-        contacts: &[Contact],
+        contacts: &Geoms,
         s: &Solved,
         step: usize,
     ) -> (Vec<ContactRecord>, Vec<Warning>) {
@@ -165,22 +160,22 @@ impl World {
                 };
                 let mut force = [0.0; 3];
                 crate::jacobian::copy_small(&mut force[..law.rows()], &s.z2[r..r + law.rows()]);
-                memory.push((c.geom.key, Memory { force, closed: s.state.closed[k], bonded: law.bonded }));
-                if c.geom.g0 < deep {
+                memory.push((c.key, Memory { force, closed: s.state.closed[k], bonded: law.bonded }));
+                if c.g0 < deep {
                     warnings.push(Warning::Penetration {
                         step,
-                        body_a: self.bodies[c.geom.a].name.clone(),
-                        body_b: self.bodies[c.geom.b].name.clone(),
-                        depth: -c.geom.g0,
+                        body_a: self.bodies[c.a].name.clone(),
+                        body_b: self.bodies[c.b].name.clone(),
+                        depth: -c.g0,
                     });
                 }
                 ContactRecord {
-                    key: c.geom.key,
-                    kind: c.geom.kind,
-                    body_a: c.geom.a,
-                    body_b: c.geom.b,
-                    point: c.geom.point,
-                    normal: c.geom.normal,
+                    key: c.key,
+                    kind: c.kind,
+                    body_a: c.a,
+                    body_b: c.b,
+                    point: c.point,
+                    normal: c.normal,
                     normal_force: pn,
                     shear_force: pt,
                     rolling_moment: (law.rolling > 0.0).then(|| s.z2[r + 2]),
