@@ -37,6 +37,10 @@ pub(super) struct Blocks {
     /// Every body has 3 DOFs (a pile of rigid bodies) and its block follows the last one: K̃_c⁻¹
     /// of body b is `kinv[9 b..9 b + 9]`.
     pub(super) all_rigid: bool,
+    /// Besides, every cluster is a body here and body b's DOFs start at 3 b: a body whose DOFs
+    /// start at a has its K̃⁻¹ at `kinv[3 a..3 a + 9]`, as B's contact frames read it
+    /// (`frames.rs`).
+    pub(super) dense: bool,
     /// The length of the body vectors (B's columns).
     pub(super) dofs: usize,
 }
@@ -82,6 +86,9 @@ impl Blocks {
         // (the blocks then lie one after the other, 9 numbers each)
         blocks.all_rigid =
             blocks.n.iter().zip(&blocks.square).enumerate().all(|(b, (&n, &s))| n == 3 && s == 9 * b);
+        blocks.dense = blocks.all_rigid
+            && blocks.n.len() == body.len()
+            && blocks.start.iter().enumerate().all(|(b, &start)| start == 3 * b);
         blocks
     }
 

@@ -15,10 +15,10 @@
 
 use super::blocks::{Blocks, NONE};
 use super::cut::split_of;
-use super::frames::{self, Frame, gather, scatter};
+use super::frames::{self, gather, scatter};
 use crate::body::MAX_DOF;
 use crate::cluster::block_times;
-use crate::jacobian::{Jacobian, Segment, dot, dot_n, range_n, range_n_mut};
+use crate::jacobian::{Frame, Jacobian, Segment, dot, dot_n, range_n, range_n_mut};
 use std::ops::Range;
 use std::sync::{Arc, Mutex};
 
@@ -30,21 +30,22 @@ const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' part of W (see the module docs). Its products run over the
 /// operator's own Jacobian (passed in), whose segments on body-form clusters it reads in push
-/// order (which fixes every sum's order), or, when every segment is a rigid contact's, over the
-/// same entries packed per contact (`frames.rs`, a third of the bytes, the same sums); its body
-/// vectors are indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
+/// order (which fixes every sum's order), or, when B is stored as contact frames of rigid bodies
+/// (`jacobian::Frame`), over the frames (a third of the bytes, the same sums); its body vectors
+/// are indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
 #[derive(Debug, Default)]
 pub(super) struct BodyPart {
     /// The bodies' ranges and blocks, shared with the scratch that keeps them across steps.
     blocks: Arc<Blocks>,
     /// How many of B's segments are on body-form clusters.
     count: usize,
-    /// Where B's segments split into two halves whose rows do not overlap (every row of the
-    /// first below every row of the second), at about half of them; 0 when they do not split so.
+    /// Whether the passes read B's frames: B is stored so and every body is a rigid one in body
+    /// form, laid out as the frames read them (`Blocks::dense`).
+    framed: bool,
+    /// Where B splits into two halves whose rows do not overlap (every row of the first below
+    /// every row of the second), at about half of it: a frame when `framed`, else a segment; 0
+    /// when it does not split so.
     split: usize,
-    /// B's segments as contact frames, in the two halves of `split` (the second empty without
-    /// one), when every segment is a rigid body-form contact's (`frames.rs`).
-    frames: Option<[Vec<Frame>; 2]>,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -52,72 +53,45 @@ pub(super) struct BodyPart {
 impl BodyPart {
     /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`: from
     /// [`HALVES_FROM`] segments on, over the products' two halves (`split`), one per core, when
-    /// B has them (their rows are apart, so each half adds to its own rows).
-    /// `spare` holds the storage of earlier steps' frames ([`Self::recycle`]).
-    pub fn new(
-        jac: &Jacobian,
-        blocks: Arc<Blocks>,
-        diagonal: &mut [f64],
-        spare: &mut Vec<Vec<Frame>>,
-    ) -> Self {
-        let mut part = BodyPart { blocks, ..Default::default() };
+    /// B has them (their rows are apart, so each half adds to its own rows). B's frames come in
+    /// row order (`Jacobian::push_frame`), so they split at their middle.
+    pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
+        let framed = blocks.dense && jac.frames().is_some();
+        let mut part = BodyPart { blocks, framed, ..Default::default() };
+        if let Some(frames) = jac.frames().filter(|_| framed) {
+            part.count = jac.len();
+            part.split = if part.count >= HALVES_FROM { frames.len() / 2 } else { 0 };
+            let kinv = &part.blocks.kinv;
+            let add = |frames: &[Frame], diagonal: &mut [f64], row0| {
+                frames.iter().for_each(|f| frames::add_diagonal(f, kinv, diagonal, row0))
+            };
+            match part.split {
+                0 => add(frames, diagonal, 0),
+                at => {
+                    let row = frames[at].row();
+                    debug_assert!(frames.windows(2).all(|f| f[0].row() < f[1].row()), "frames in row order");
+                    let (d1, d2) = diagonal.split_at_mut(row);
+                    micropool::join(|| add(&frames[..at], d1, 0), || add(&frames[at..], d2, row));
+                }
+            }
+            return part;
+        }
         let all = jac.segments();
         part.split = if all.len() >= HALVES_FROM { split_of(all) } else { 0 };
-        let mut store = [(); 2].map(|_| spare.pop().unwrap_or_default());
-        let [f1, f2] = &mut store;
-        let ((c1, p1), (c2, p2)) = if part.split > 0 {
-            let (at, row) = (part.split, all[part.split].row());
-            let (d1, d2) = diagonal.split_at_mut(row);
-            let part = &part;
-            micropool::join(
-                || part.half(jac, 0..at, d1, 0, f1),
-                || part.half(jac, at..all.len(), d2, row, f2),
-            )
-        } else {
-            f2.clear();
-            (part.half(jac, 0..all.len(), diagonal, 0, f1), (0, true))
+        part.count = match part.split {
+            0 => part.add_diagonal(jac, 0..all.len(), diagonal, 0),
+            at => {
+                let row = all[at].row();
+                let (d1, d2) = diagonal.split_at_mut(row);
+                let part = &part;
+                let (c1, c2) = micropool::join(
+                    || part.add_diagonal(jac, 0..at, d1, 0),
+                    || part.add_diagonal(jac, at..all.len(), d2, row),
+                );
+                c1 + c2
+            }
         };
-        part.count = c1 + c2;
-        if p1 && p2 {
-            part.frames = Some(store);
-        } else {
-            spare.extend(store);
-        }
         part
-    }
-
-    /// Returns the frames' storage to `spare`.
-    pub fn recycle(self, spare: &mut Vec<Vec<Frame>>) {
-        spare.extend(self.frames.into_iter().flatten());
-    }
-
-    /// One half of `new` over B's segments `segs`, whose rows are those of `diagonal` (from row
-    /// `row0`): the half's frames when it packs into them (`frames.rs`: every segment a rigid
-    /// body-form contact's, its K̃⁻¹ at three times its first DOF, as in a pile of rigid bodies;
-    /// into `frames`, and whether it does) and its share of diag(W), added as the frames are
-    /// made and from the segments past them, and the number of its segments on body-form
-    /// clusters. (The segments before a contact that does not pack are rigid bodies', each its
-    /// body's only one in its row, so the diagonal gets the sums of `add_diagonal` alone.)
-    fn half(
-        &self,
-        jac: &Jacobian,
-        segs: Range<usize>,
-        diagonal: &mut [f64],
-        row0: usize,
-        frames: &mut Vec<Frame>,
-    ) -> (usize, bool) {
-        let Blocks { rigid, kinv, all_rigid, .. } = &*self.blocks;
-        let dense = |s: &Segment| rigid[s.cluster()] as usize == 3 * s.start();
-        let packed = if *all_rigid {
-            let add = |f: &Frame| frames::add_diagonal(f, kinv, diagonal, row0);
-            frames::pack(jac, &jac.segments()[segs.clone()], dense, frames, add)
-        } else {
-            0
-        };
-        if packed == segs.len() {
-            return (packed, true);
-        }
-        (packed + self.add_diagonal(jac, segs.start + packed..segs.end, diagonal, row0), false)
     }
 
     pub fn is_empty(&self) -> bool {
@@ -231,90 +205,88 @@ impl BodyPart {
         count
     }
 
+    /// Whether every segment of B is on a body (a scene of single bodies).
+    fn whole(&self, jac: &Jacobian) -> bool {
+        self.framed || self.count == jac.len()
+    }
+
+    /// Half `half` (0 or 1) of B over the halves of `split` (without a split, half 0 is all of B
+    /// and half 1 nothing): its frames when the passes read them, else its segments.
+    fn half<'a>(&self, jac: &'a Jacobian, half: usize) -> Half<'a> {
+        fn cut<T>(all: &[T], at: usize, half: usize) -> &[T] {
+            let at = if at > 0 { at } else { all.len() };
+            if half == 0 { &all[..at] } else { &all[at..] }
+        }
+        match jac.frames().filter(|_| self.framed) {
+            Some(frames) => Half::Frames(cut(frames, self.split, half)),
+            None => Half::Segments(cut(jac.segments(), self.split, half)),
+        }
+    }
+
     /// out += W_bodies z, or out = W_bodies z with `clear`: v = K̃⁻¹ Bᵀ z over the bodies
     /// ([`Self::respond`]), then each row's B v, over the two halves of `split` (each core
     /// clearing and summing into its own rows) when B has them.
     pub fn apply(&self, jac: &Jacobian, z: &[f64], out: &mut [f64], clear: bool) {
-        let all = jac.segments();
         // a scene of single bodies: no filter, which would cost each product a load per segment
-        let whole = self.count == all.len();
+        let whole = self.whole(jac);
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         let n = self.blocks.dofs;
         guard.resize(3 * n, 0.0);
         let (u, v) = guard.split_at_mut(2 * n);
-        if whole {
-            self.respond(jac, all.iter(), true, z, u, v);
-        } else {
-            self.respond(jac, self.segs(jac), false, z, u, v);
-        }
+        self.respond(jac, whole, z, u, v);
         let v = &*v;
         if whole && self.split > 0 {
-            let (first, second) = all.split_at(self.split);
-            let row = second[0].row();
+            let row = self.half(jac, 1).first_row();
             let (o1, o2) = out.split_at_mut(row);
-            let read = |half: usize, segs, out: &mut [f64], offset| {
+            let read = |half: usize, out: &mut [f64], offset| {
                 if clear {
                     out.fill(0.0);
                 }
-                match &self.frames {
-                    Some(f) => frames::gather_frames(&f[half], v, out, offset),
-                    None => gather(jac, segs, v, out, offset),
-                }
+                self.half(jac, half).gather(jac, v, out, offset);
             };
-            micropool::join(|| read(0, first, o1, 0), || read(1, second, o2, row));
+            micropool::join(|| read(0, o1, 0), || read(1, o2, row));
             return;
         }
         if clear {
             out.fill(0.0);
         }
-        match &self.frames {
-            Some([f, _]) => frames::gather_frames(f, v, out, 0),
-            // (not `gather`: its offset cost 48 k instructions a warm step of the 1,000-disk pile)
-            None if whole => all.iter().for_each(|s| out[s.row()] += jac.dot(s, v)),
-            None => self.segs(jac).for_each(|s| out[s.row()] += jac.dot(s, v)),
+        match whole {
+            true => self.half(jac, 0).gather(jac, v, out, 0),
+            false => self.segs(jac).for_each(|s| out[s.row()] += jac.dot(s, v)),
         }
     }
 
     /// out = K̃⁻¹ Bᵀ z on the bodies' DOFs (out's other entries untouched) when every segment of
-    /// B is on a body, through the frames when B packed into them and over the two halves of
-    /// `split` when it has them; `false` (out untouched) otherwise. The sums of B's transpose
-    /// product and the flexibility's body solves without halves (`Jacobian::transpose_apply`,
-    /// `Flexibility::solve_in_place`); with them, a body with segments in both halves adds
-    /// its two partial sums.
+    /// B is on a body, through the frames when B is stored so and over the two halves of `split`
+    /// when it has them; `false` (out untouched) otherwise. The sums of B's transpose product and
+    /// the flexibility's body solves without halves (`Jacobian::transpose_apply`,
+    /// `Flexibility::solve_in_place`); with them, a body with segments in both halves adds its
+    /// two partial sums.
     pub fn response(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) -> bool {
-        if self.count != jac.segments().len() {
+        if !self.whole(jac) {
             return false;
         }
         let mut guard = self.work.lock().unwrap_or_else(|e| e.into_inner());
         guard.resize(2 * self.blocks.dofs, 0.0);
-        self.respond(jac, jac.segments().iter(), true, z, &mut guard, out);
+        self.respond(jac, true, z, &mut guard, out);
         true
     }
 
-    /// v = K̃⁻¹ Bᵀ z on every body (v's other entries untouched) over B's segments `segs` on
-    /// the bodies (`whole` when they are all of B's, so that every DOF is a body's), with `u`
-    /// (twice the bodies' DOFs) for Bᵀ z. For a whole scene in two halves of B's segments whose
-    /// rows do not overlap (`split`): each half's generalized forces on a core of its own, and
-    /// half the bodies' solves on each. Each half sums into its own u, and a body adds the two,
-    /// so that no sum depends on the threads that ran it (one thread gives the same bits).
-    fn respond<'a>(
-        &self,
-        jac: &Jacobian,
-        segs: impl Iterator<Item = &'a Segment> + Clone,
-        whole: bool,
-        z: &[f64],
-        u: &mut [f64],
-        v: &mut [f64],
-    ) {
+    /// v = K̃⁻¹ Bᵀ z on every body (v's other entries untouched) over B's segments on the bodies
+    /// (`whole` when they are all of B's, so that every DOF is a body's), with `u` (twice the
+    /// bodies' DOFs) for Bᵀ z. For a whole scene in two halves of B whose rows do not overlap
+    /// (`split`): each half's generalized forces on a core of its own, and half the bodies'
+    /// solves on each. Each half sums into its own u, and a body adds the two, so that no sum
+    /// depends on the threads that ran it (one thread gives the same bits).
+    fn respond(&self, jac: &Jacobian, whole: bool, z: &[f64], u: &mut [f64], v: &mut [f64]) {
         let Blocks { start, n: ns, dofs: n, .. } = &*self.blocks;
         let (u, u2) = u.split_at_mut(*n);
         if whole && self.split > 0 {
-            let (first, second) = jac.segments().split_at(self.split);
-            let sum = |half: usize, segs, u: &mut [f64]| {
+            let sum = |half: usize, u: &mut [f64]| {
                 u.fill(0.0);
-                self.scatter_half(jac, half, segs, z, u);
+                self.half(jac, half).scatter(jac, z, u);
             };
-            micropool::join(|| sum(0, first, u), || sum(1, second, u2));
+            micropool::join(|| sum(0, u), || sum(1, u2));
             let (u1, u2) = (&*u, &*u2);
             let half = start.len() / 2;
             let at = start.get(half).copied().unwrap_or(*n);
@@ -328,10 +300,11 @@ impl BodyPart {
         // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's)
         if whole {
             u.fill(0.0);
+            self.half(jac, 0).scatter(jac, z, u);
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
+            scatter(jac, self.segs(jac), z, u);
         }
-        self.scatter_half(jac, 0, segs, z, u);
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
             for (&start, k) in start.iter().zip(self.blocks.kinv.chunks_exact(9)) {
@@ -342,22 +315,6 @@ impl BodyPart {
                 let r = start..start + ns[b];
                 self.solve(b, &u[r.clone()], &mut v[r]);
             }
-        }
-    }
-
-    /// u += Bᵀ z over half `half` of the frames when B packed into them, else over the
-    /// segments `segs` (the same sums).
-    fn scatter_half<'a>(
-        &self,
-        jac: &Jacobian,
-        half: usize,
-        segs: impl IntoIterator<Item = &'a Segment>,
-        z: &[f64],
-        u: &mut [f64],
-    ) {
-        match &self.frames {
-            Some(f) => frames::scatter_frames(&f[half], z, u),
-            None => scatter(jac, segs, z, u),
         }
     }
 
@@ -415,23 +372,55 @@ impl BodyPart {
         work.resize(packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(packed[bodies]);
         m.fill(0.0);
+        // a rigid body's row s: t = Rᵀ s, M += w t tᵀ, unrolled over arrays (the general loop's
+        // sums below, which would cost 3.3 M more instructions of a 27.6 M warm step on the
+        // 1,000-disk pile, callgrind)
+        let rigid = |m: &mut [f64], b: usize, v: &[f64; 3], w: f64| {
+            rigid_term(range_n::<9>(root, square[b]), v, w, range_n_mut::<6>(m, packed[b]))
+        };
+        // each segment of a frame, with its body (the one whose DOFs start at a is body a / 3:
+        // `Blocks::dense`) and its row's offset in the frame
+        let frame_segments = |f: &Frame| {
+            [f.a, f.a, f.b, f.b].map(|a| a as usize / 3).into_iter().enumerate().take(f.segments())
+        };
+        let frames = jac.frames().filter(|_| self.framed);
+        match frames {
+            Some(frames) => {
+                for f in frames {
+                    let (r, e) = (f.row(), f.entries());
+                    for (k, b) in frame_segments(f) {
+                        rigid(m, b, &e[k], sc[r + k % 2] * sc[r + k % 2]);
+                    }
+                }
+            }
+            None => self.add_row_terms(jac, sc, m, rigid),
+        }
+        for (b, l) in lambda.iter_mut().enumerate() {
+            *l = largest_eigenvalue(&m[packed[b]..packed[b + 1]], ns[b]);
+        }
+        match frames {
+            Some(frames) => frames
+                .iter()
+                .for_each(|f| frame_segments(f).for_each(|(k, b)| out[f.row() + k % 2] += lambda[b])),
+            None => self.segs(jac).for_each(|s| out[s.row()] += lambda[self.body(s)]),
+        }
+    }
+
+    /// `row_bounds`' M_c += w t_s t_sᵀ over B's segments on the bodies (`rigid` for a rigid
+    /// body's row, unrolled).
+    fn add_row_terms(
+        &self,
+        jac: &Jacobian,
+        sc: &[f64],
+        m: &mut [f64],
+        rigid: impl Fn(&mut [f64], usize, &[f64; 3], f64),
+    ) {
+        let Blocks { n: ns, square, packed, root, .. } = &*self.blocks;
         for s in self.segs(jac) {
             let (b, w) = (self.body(s), sc[s.row()] * sc[s.row()]);
             let n = ns[b];
             if n == 3 && s.width() == 3 {
-                // a rigid body's row, unrolled over arrays: t = Rᵀ s, M += w t tᵀ. The same sums
-                // as the general loop below, which would cost 3.3 M more instructions of a 27.6 M
-                // warm step on the 1,000-disk pile (callgrind)
-                let (r, v, mb) =
-                    (range_n::<9>(root, square[b]), jac.vals_n::<3>(s), range_n_mut::<6>(m, packed[b]));
-                let t = [
-                    r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
-                    r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
-                    r[6] * v[0] + r[7] * v[1] + r[8] * v[2],
-                ];
-                let wt = [w * t[0], w * t[1], w * t[2]];
-                (mb[0], mb[1], mb[2]) = (mb[0] + wt[0] * t[0], mb[1] + wt[1] * t[0], mb[2] + wt[1] * t[1]);
-                (mb[3], mb[4], mb[5]) = (mb[3] + wt[2] * t[0], mb[4] + wt[2] * t[1], mb[5] + wt[2] * t[2]);
+                rigid(m, b, jac.vals_n::<3>(s), w);
                 continue;
             }
             let (local, r, mb) = (self.local(s), &root[square[b]..], &mut m[packed[b]..packed[b + 1]]);
@@ -449,13 +438,55 @@ impl BodyPart {
                 k += i + 1;
             }
         }
-        for (b, l) in lambda.iter_mut().enumerate() {
-            *l = largest_eigenvalue(&m[packed[b]..packed[b + 1]], ns[b]);
-        }
-        for s in self.segs(jac) {
-            out[s.row()] += lambda[self.body(s)];
+    }
+}
+
+/// A part of B as the body form's passes read it ([`BodyPart::half`]).
+enum Half<'a> {
+    Frames(&'a [Frame]),
+    Segments(&'a [Segment]),
+}
+
+impl Half<'_> {
+    /// u += Bᵀ z over the part (u indexed by global DOF; the same sums either way).
+    fn scatter(&self, jac: &Jacobian, z: &[f64], u: &mut [f64]) {
+        match self {
+            Half::Frames(f) => frames::scatter_frames(f, z, u),
+            Half::Segments(s) => scatter(jac, *s, z, u),
         }
     }
+
+    /// out[row - offset] += (B v)_row over the part's rows.
+    fn gather(&self, jac: &Jacobian, v: &[f64], out: &mut [f64], offset: usize) {
+        match self {
+            Half::Frames(f) => frames::gather_frames(f, v, out, offset),
+            // (not `gather` without an offset: its offset cost 48 k instructions a warm step of
+            // the 1,000-disk pile)
+            Half::Segments(s) if offset == 0 => s.iter().for_each(|s| out[s.row()] += jac.dot(s, v)),
+            Half::Segments(s) => gather(jac, *s, v, out, offset),
+        }
+    }
+
+    /// The part's first row.
+    fn first_row(&self) -> usize {
+        match self {
+            Half::Frames(f) => f[0].row(),
+            Half::Segments(s) => s[0].row(),
+        }
+    }
+}
+
+/// m += w t tᵀ with t = Rᵀ v (R column-major 3 × 3, m the packed lower triangle).
+#[inline(always)]
+fn rigid_term(r: &[f64; 9], v: &[f64; 3], w: f64, m: &mut [f64; 6]) {
+    let t = [
+        r[0] * v[0] + r[1] * v[1] + r[2] * v[2],
+        r[3] * v[0] + r[4] * v[1] + r[5] * v[2],
+        r[6] * v[0] + r[7] * v[1] + r[8] * v[2],
+    ];
+    let wt = [w * t[0], w * t[1], w * t[2]];
+    (m[0], m[1], m[2]) = (m[0] + wt[0] * t[0], m[1] + wt[1] * t[0], m[2] + wt[1] * t[1]);
+    (m[3], m[4], m[5]) = (m[3] + wt[2] * t[0], m[4] + wt[2] * t[1], m[5] + wt[2] * t[2]);
 }
 
 /// out[..N] = K u[..N], K column-major N × N (the same sums as the general loop).

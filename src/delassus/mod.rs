@@ -73,8 +73,6 @@ pub struct Scratch {
     cursors: Vec<(usize, usize, usize)>,
     /// The body form's packed blocks, kept across steps while they stay current.
     blocks: Option<Arc<blocks::Blocks>>,
-    /// Storage for the body form's contact frames, returned by [`ContactOperator::recycle`].
-    frames: Vec<Vec<frames::Frame>>,
 }
 
 impl Scratch {
@@ -142,8 +140,7 @@ impl ContactOperator {
             // a scene of single bodies: nothing to assemble. The assembly's passes over every
             // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
             // a 29 M warm step on the 1,000-disk pile
-            let bodies =
-                BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal, &mut scratch.frames);
+            let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
             let explicit = CsMat::zero((jac.rows, jac.rows));
             return ContactOperator { jac, explicit, factored: Vec::new(), bodies, diagonal };
         }
@@ -157,8 +154,7 @@ impl ContactOperator {
             })
             .collect();
         let factored = factored_parts(&jac, flex, map, &factored_clusters, &mut diagonal);
-        let bodies =
-            BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal, &mut scratch.frames);
+        let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
         let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
         scratch.places(&jac, map, &outside);
         scratch.columns(&jac, flex);
@@ -174,10 +170,8 @@ impl ContactOperator {
         &self.jac
     }
 
-    /// B, for its storage to be reused, and the body form's frames' storage, returned to
-    /// `scratch`.
-    pub fn recycle(self, scratch: &mut Scratch) -> Jacobian {
-        self.bodies.recycle(&mut scratch.frames);
+    /// B, for its storage to be reused (its frames' too).
+    pub fn into_jacobian(self) -> Jacobian {
         self.jac
     }
 

@@ -47,77 +47,97 @@ fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
 /// |W z| (the same terms summed in another order), and give the same bits on one thread and
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
-/// added to. Every order packs into contact frames (`frames.rs`; the wall's contact into one of
-/// one body), whose products and diagonal have the bits of the segments'. The response K̃⁻¹ Bᵀ z
-/// (`BodyPart::response`) has the bits of B's transpose product and the flexibility's solves
-/// where there is no cut (the same sums in the same order), and equals them to 1e-12 of its
-/// largest entry over the halves (a body with segments on both sides adds two partial sums),
-/// with the same bits on one thread and two and over frames or segments.
+/// added to. The same contacts pushed as contact frames (`jacobian::Frame`), with their share of
+/// B v (v = 1/4) summed as the segments' (the same bits), stay frames where
+/// they come in row order (contact order, with or without the wall) and turn into their
+/// segments otherwise; framed, the part reads the frames, cut at the middle frame (5,249 and
+/// 5,250 with the wall), with the segments' diagonal bit for bit and products equal to the
+/// segments' to 1e-12. The response K̃⁻¹ Bᵀ z (`BodyPart::response`) has the bits of B's
+/// transpose product and the flexibility's solves where there is no cut (the same sums in the
+/// same order), and equals them to 1e-12 of its largest entry over the halves (a body with
+/// segments on both sides adds two partial sums), with the same bits on one thread and two.
 #[test]
 fn products_split_only_where_no_row_straddles() {
     let n = 10_500;
     let (bodies, map, flex, blocks) = rigid_disks(n);
-    // contact k between disks k and k + 1 at rows first + 2k, + 1
-    let contact = |jac: &mut Jacobian, k: usize, first: usize| {
+    let v = vec![0.25; 3 * n];
+    let rows = |k: usize, first: usize| {
         let normal = Vec2::new(-1.0, -0.1 * (k % 3) as f64).normalize();
         let x = Vec2::new(k as f64 + 0.5, 0.0);
-        for (body, sign) in [(k, 1.0), (k + 1, -1.0)] {
-            for (row, dir) in [(first + 2 * k, normal), (first + 2 * k + 1, cw(normal))] {
-                jac.push(row, body, 3 * body, 3, bodies[body].shape_row(x, dir) * sign);
-            }
+        let row = |body: usize, sign| [normal, cw(normal)].map(|dir| bodies[body].rigid_row(x, dir, sign));
+        (first + 2 * k, row(k, 1.0), row(k + 1, -1.0))
+    };
+    // contact k between disks k and k + 1 at rows first + 2k, + 1, as segments or as a frame
+    let contact = |jac: &mut Jacobian, k: usize, first: usize, framed: bool, q: &mut [f64]| {
+        let (r, [na, ta], [nb, tb]) = rows(k, first);
+        if framed {
+            let frame = Frame::new(r, 3 * k, na, ta).with_second(3 * k + 3, nb, tb);
+            return jac.push_frame(frame, [k, k + 1], &v, q);
+        }
+        for (body, [n, t]) in [(k, [na, ta]), (k + 1, [nb, tb])] {
+            jac.push_apply(r, body, 3 * body, &n, &v, q);
+            jac.push_apply(r + 1, body, 3 * body, &t, &v, q);
         }
     };
-    let wall = |jac: &mut Jacobian| {
-        let x = Vec2::new(-0.5, 0.0);
-        for (row, dir) in [(0, Vec2::x()), (1, cw(Vec2::x()))] {
-            jac.push(row, 0, 0, 3, bodies[0].shape_row(x, dir));
+    let wall = |jac: &mut Jacobian, framed: bool, q: &mut [f64]| {
+        let [rn, rt] =
+            [Vec2::x(), cw(Vec2::x())].map(|dir| bodies[0].rigid_row(Vec2::new(-0.5, 0.0), dir, 1.0));
+        if framed {
+            return jac.push_frame(Frame::new(0, 0, rn, rt), [0, 0], &v, q);
         }
+        jac.push_apply(0, 0, 0, &rn, &v, q);
+        jac.push_apply(1, 0, 0, &rt, &v, q);
     };
     let late = (0..5_249).chain([5_329]).chain(5_249..5_329).chain(5_330..n - 1).collect();
     let in_order = || (0..n - 1).collect::<Vec<_>>();
     let orders = [
-        (in_order(), false, 21_000),
-        ((1..n - 1).chain([0]).collect(), false, 0),
-        (late, false, 21_320),
-        (in_order(), true, 21_002),
+        (in_order(), false, 21_000, Some(5_249)),
+        ((1..n - 1).chain([0]).collect(), false, 0, None),
+        (late, false, 21_320, None),
+        (in_order(), true, 21_002, Some(5_250)),
     ];
-    for (order, with_wall, split) in orders {
-        let mut jac = Jacobian::default();
+    for (order, with_wall, split, frame_split) in orders {
         let first = if with_wall { 2 } else { 0 };
-        jac.reset(first + 2 * (n - 1));
-        if with_wall {
-            wall(&mut jac);
-        }
-        order.iter().for_each(|&k| contact(&mut jac, k, first));
-        let mut diagonal = vec![0.0; jac.rows];
-        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal, &mut Vec::new());
-        assert_eq!(part.split, split);
-        assert!(part.frames.is_some(), "split {split}: frames");
-        // the same part over the segments
-        let plain = BodyPart {
-            frames: None,
-            ..BodyPart::new(&jac, Arc::clone(&blocks), &mut vec![0.0; jac.rows], &mut Vec::new())
+        let build = |framed: bool| {
+            let mut jac = Jacobian::with_rows(first + 2 * (n - 1));
+            let mut q = vec![0.0; jac.rows];
+            if with_wall {
+                wall(&mut jac, framed, &mut q);
+            }
+            order.iter().for_each(|&k| contact(&mut jac, k, first, framed, &mut q));
+            (jac, q)
         };
+        let ((jac, q), (framed, q_framed)) = (build(false), build(true));
+        assert!(q.iter().zip(&q_framed).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split}: B v");
+        assert_eq!(framed.frames().is_some(), frame_split.is_some(), "split {split}: framed");
+        assert_eq!(framed.len(), jac.len());
+        let same_segments = framed.segments().iter().zip(jac.segments()).all(|(a, b)| {
+            (a.row(), a.cluster(), a.dofs()) == (b.row(), b.cluster(), b.dofs())
+                && framed.vals(a).iter().zip(jac.vals(b)).all(|(x, y)| x.to_bits() == y.to_bits())
+        });
+        assert!(same_segments, "split {split}: the frames' segments");
+        let mut diagonal = vec![0.0; jac.rows];
+        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
+        assert_eq!((part.split, part.framed), (split, false));
         let mut serial = vec![0.0; jac.rows];
         part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
-        assert!(
-            diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()),
-            "split {split}: diagonal"
-        );
+        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+        assert!(bits(&diagonal, &serial), "split {split}: diagonal");
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
         // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
-        let on = |part: &BodyPart, threads: usize, clear: bool| {
+        let on = |part: &BodyPart, jac: &Jacobian, threads: usize, clear: bool| {
             let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
             let mut out = vec![if clear { f64::NAN } else { 0.0 }; jac.rows];
-            pool.install(|| part.apply(&jac, &z, &mut out, clear));
+            pool.install(|| part.apply(jac, &z, &mut out, clear));
             out
         };
-        let (got, w) = (on(&part, 2, false), super::super::assemble(&jac, &flex, &map));
-        let same = |a: &[f64]| a.iter().zip(&got).all(|(a, b)| a.to_bits() == b.to_bits());
-        assert!(same(&on(&part, 1, false)), "split {split}: threads");
-        assert!(same(&on(&part, 1, true)) && same(&on(&part, 2, true)), "split {split}: clearing");
-        assert!(same(&on(&plain, 2, false)) && same(&on(&plain, 1, true)), "split {split}: segments");
-        response_matches_the_transpose_product(&part, &plain, &jac, &z, &flex, &map);
+        let (got, w) = (on(&part, &jac, 2, false), super::super::assemble(&jac, &flex, &map));
+        assert!(bits(&on(&part, &jac, 1, false), &got), "split {split}: threads");
+        assert!(
+            bits(&on(&part, &jac, 1, true), &got) && bits(&on(&part, &jac, 2, true), &got),
+            "split {split}: clearing"
+        );
+        response_matches_the_transpose_product(&part, &jac, &z, &flex, &map);
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
         let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
@@ -125,21 +145,23 @@ fn products_split_only_where_no_row_straddles() {
             let wrr = w.get(r, r).copied().unwrap_or(0.0);
             assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split}, diagonal {r}: {d} vs {wrr}");
         }
-        for r in 0..jac.rows {
-            assert!(
-                (got[r] - want[r]).abs() <= 1e-12 * scale,
-                "split {split}, row {r}: {} vs {}",
-                got[r],
-                want[r]
-            );
-        }
+        let near = |a: &[f64]| a.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale);
+        assert!(near(&got), "split {split}: W z");
+        let Some(at) = frame_split else { continue };
+        let mut diagonal_f = vec![0.0; jac.rows];
+        let part = BodyPart::new(&framed, Arc::clone(&blocks), &mut diagonal_f);
+        assert_eq!((part.split, part.framed), (at, true));
+        assert!(bits(&diagonal_f, &diagonal), "split {split}: the frames' diagonal");
+        let got = on(&part, &framed, 2, false);
+        assert!(bits(&on(&part, &framed, 1, true), &got), "split {split}: the frames' threads");
+        assert!(near(&got), "split {split}: the frames' W z");
+        response_matches_the_transpose_product(&part, &framed, &z, &flex, &map);
     }
 }
 
 /// The response checks of `products_split_only_where_no_row_straddles` (see there).
 fn response_matches_the_transpose_product(
     part: &BodyPart,
-    plain: &BodyPart,
     jac: &Jacobian,
     z: &[f64],
     flex: &Flexibility,
@@ -148,15 +170,15 @@ fn response_matches_the_transpose_product(
     let mut want = vec![0.0; map.total()];
     jac.transpose_apply(z, |_| true, &mut want);
     flex.solve_in_place(map, &mut want);
-    let on = |part: &BodyPart, threads: usize| {
+    let on = |threads: usize| {
         let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
         let mut out = vec![0.0; map.total()];
         assert!(pool.install(|| part.response(jac, z, &mut out)), "every segment on a body");
         out
     };
-    let got = on(part, 2);
+    let got = on(2);
     let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&on(part, 1), &got) && bits(&on(plain, 2), &got), "split {}: response bits", part.split);
+    assert!(bits(&on(1), &got), "split {}: response threads", part.split);
     if part.split == 0 {
         assert!(bits(&got, &want), "response without halves");
     }
@@ -178,84 +200,80 @@ fn no_response_unless_every_segment_is_on_a_body() {
         jac.push(0, body, 3 * body, 3, bodies[body].shape_row(Vec2::new(0.5, 0.0), Vec2::x()) * sign);
     }
     let blocks = Arc::new(Blocks::new(&flex, &map, &[true, false]));
-    let part = BodyPart::new(&jac, blocks, &mut [0.0; 1], &mut Vec::new());
+    let part = BodyPart::new(&jac, blocks, &mut [0.0; 1]);
     let mut out = vec![f64::NAN; map.total()];
     assert!(!part.response(&jac, &[1.0], &mut out));
     assert!(out.iter().all(|x| x.is_nan()));
 }
 
-/// Contact frames (`frames::pack`) only where each frame gives back its segments' entries bit
-/// for bit and the body's K̃⁻¹ lies where the frames' diagonal reads it: a contact between two
-/// rigid bodies (rows n and cw(n) on A, the same negated on B, each with its own moment arms)
-/// and one on a single body pack (6 segments into 2 frames). Each of these stops the packing
-/// at its first segment (the count is the segments packed before it): a tangent row that is not
-/// cw(n) (6), a rolling contact (8: its rows n and t on A still make a frame of one body, and
-/// its rolling row stops it), a deformable body's segment of four entries (6), a contact cut
-/// after its first segment (6), a body whose K̃⁻¹ is not at three times its first DOF (4). Where
-/// the Jacobian stops packing, `BodyPart::new` adds the rest of diag(W) from the segments: the
-/// bits of `add_diagonal` over all of them.
+/// B as contact frames (`Jacobian::push_frame`) until a segment comes: two frames (a contact
+/// between rigid bodies at rows 0 and 1, a contact on one body at rows 2 and 3), then a segment
+/// of four entries, give the segments of pushing all as segments, in push order, with the same
+/// entries (a negation is exact); so do frames pushed out of row order (in their push order),
+/// and sorting by row (the segments' sort). While framed, `segments` makes the same segments from the frames. The body form reads
+/// the frames only when every cluster is a rigid body in body form laid out as the frames
+/// read it (`Blocks::dense`): with one disk outside the body form it reads the segments, with
+/// the diagonal `add_diagonal` gives them.
 #[test]
-fn frames_only_where_they_give_back_every_entry() {
+fn frames_turn_into_their_segments() {
     let n = Vec2::new(0.6, -0.8);
     let (na, nb) = ([n.x, n.y, 0.3], [-n.x, -n.y, -0.2]);
     let (ta, tb) = ([cw(n).x, cw(n).y, 0.5], [-cw(n).x, -cw(n).y, 0.7]);
-    // contact rows 0, 1 between bodies at DOFs 0 and 3, rows 2, 3 on the body at DOF 6 alone
-    let good = |jac: &mut Jacobian| {
-        for (row, start, vals) in [(0, 0, na), (1, 0, ta), (0, 3, nb), (1, 3, tb), (2, 6, na), (3, 6, ta)] {
+    let frames = [Frame::new(0, 0, na, ta).with_second(3, nb, tb), Frame::new(2, 6, na, ta)];
+    let segments = [(0, 0, na), (1, 0, ta), (0, 3, nb), (1, 3, tb), (2, 6, na), (3, 6, ta)];
+    let v: Vec<f64> = (0..9).map(|i| 0.1 * i as f64 - 0.3).collect();
+    let same = |a: &Jacobian, b: &Jacobian| {
+        a.len() == b.len()
+            && a.segments().iter().zip(b.segments()).all(|(s, t)| {
+                (s.row(), s.cluster(), s.dofs()) == (t.row(), t.cluster(), t.dofs())
+                    && a.vals(s).iter().zip(b.vals(t)).all(|(x, y)| x.to_bits() == y.to_bits())
+            })
+    };
+    let as_segments = |extra: &[(usize, usize, &[f64])]| {
+        let mut jac = Jacobian::with_rows(5);
+        for &(row, start, vals) in &segments {
             jac.push_slice(row, start / 3, start, &vals);
         }
-    };
-    let jacobian = |extra: &dyn Fn(&mut Jacobian)| {
-        let mut jac = Jacobian::with_rows(7);
-        good(&mut jac);
-        extra(&mut jac);
+        extra.iter().for_each(|&(row, start, vals)| jac.push_slice(row, start / 3, start, vals));
         jac
     };
-    let dense = |s: &Segment| s.cluster() * 3 == s.start();
-    let packed = |jac: &Jacobian, dense: &dyn Fn(&Segment) -> bool| {
-        // into the storage of an earlier step (two frames), which pack clears
-        let (mut frames, mut earlier) = (Vec::new(), Jacobian::with_rows(4));
-        good(&mut earlier);
-        assert_eq!(frames::pack(&earlier, earlier.segments(), |_| true, &mut frames, |_| {}), 6);
-        (frames::pack(jac, jac.segments(), dense, &mut frames, |_| {}), frames.len())
+    let as_frames = |order: &[usize]| {
+        let (mut jac, mut q) = (Jacobian::with_rows(5), vec![0.0; 5]);
+        order.iter().for_each(|&k| jac.push_frame(frames[k], [2 * k, 1 + k], &v, &mut q));
+        (jac, q)
     };
-    let none: &dyn Fn(&mut Jacobian) = &|_| {}; // no more segments
-    assert_eq!(packed(&jacobian(none), &dense), (6, 2));
-    type Extra<'a> = &'a dyn Fn(&mut Jacobian);
-    let cases: [(Extra, usize); 4] = [
-        (&|jac| [(4, n), (5, n)].iter().for_each(|&(r, d)| jac.push_slice(r, 0, 0, &[d.x, d.y, 0.1])), 6),
-        (
-            &|jac| {
-                for (start, sign, (nv, tv)) in [(0, 1.0, (na, ta)), (3, -1.0, (nb, tb))] {
-                    [(4, nv), (5, tv), (6, [0.0, 0.0, sign])]
-                        .iter()
-                        .for_each(|(r, v)| jac.push_slice(*r, start / 3, start, v));
-                }
-            },
-            8,
-        ),
-        (
-            &|jac| {
-                jac.push_slice(4, 3, 9, &[n.x, n.y, 0.1, 0.2]);
-                jac.push_slice(5, 3, 9, &[cw(n).x, cw(n).y, 0.1, 0.2]);
-            },
-            6,
-        ),
-        (&|jac| jac.push_slice(4, 0, 0, &na), 6),
-    ];
-    let (_, _, _, blocks) = rigid_disks(3);
-    for (i, (extra, count)) in cases.iter().enumerate() {
-        let jac = jacobian(*extra);
-        assert_eq!(packed(&jac, &dense).0, *count, "case {i}");
-        if i == 2 {
-            continue; // (four DOFs: not one of these rigid disks')
-        }
-        let mut diagonal = vec![0.0; jac.rows];
-        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal, &mut Vec::new());
-        let mut serial = vec![0.0; jac.rows];
-        part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
-        assert!(part.frames.is_none(), "case {i}: frames");
-        assert!(diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()), "case {i}: diagonal");
+    let (mut framed, q) = as_frames(&[0, 1]);
+    assert_eq!(framed.frames().map(<[Frame]>::len), Some(2));
+    assert!(same(&framed, &as_segments(&[])), "made from the frames");
+    // B v as push_apply sums it
+    let mut want = vec![0.0; 5];
+    let mut plain = Jacobian::with_rows(5);
+    for &(row, start, vals) in &segments {
+        plain.push_apply(row, start / 3, start, &vals, &v, &mut want);
     }
-    assert_eq!(packed(&jacobian(none), &|s: &Segment| s.start() != 6).0, 4, "not dense");
+    assert!(q.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()), "B v");
+    let deformable: &[f64] = &[n.x, n.y, 0.1, 0.2];
+    framed.push_slice(4, 1, 3, deformable);
+    assert!(framed.frames().is_none() && same(&framed, &as_segments(&[(4, 3, deformable)])), "a segment");
+    let (late, _) = as_frames(&[1, 0]);
+    let mut want = Jacobian::with_rows(5);
+    for &(row, start, vals) in segments[4..].iter().chain(&segments[..4]) {
+        want.push_slice(row, start / 3, start, &vals);
+    }
+    assert!(late.frames().is_none() && same(&late, &want), "out of row order");
+    let ((mut sorted, _), mut want) = (as_frames(&[0, 1]), as_segments(&[]));
+    sorted.sort_by_row();
+    want.sort_by_row();
+    assert!(sorted.frames().is_none() && same(&sorted, &want), "sorted");
+    let (_, map, flex, blocks) = rigid_disks(3);
+    let partial = Arc::new(Blocks::new(&flex, &map, &[true, true, false]));
+    let (framed, _) = as_frames(&[0, 1]);
+    for (blocks, reads_frames) in [(blocks, true), (partial, false)] {
+        let mut diagonal = vec![0.0; 5];
+        let part = BodyPart::new(&framed, blocks, &mut diagonal);
+        assert_eq!(part.framed, reads_frames);
+        let mut serial = vec![0.0; 5];
+        part.add_diagonal(&framed, 0..framed.len(), &mut serial, 0);
+        assert!(diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()), "diagonal");
+    }
 }

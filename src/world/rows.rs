@@ -12,7 +12,7 @@ use crate::body::MAX_DOF;
 use crate::contact::ContactGeom;
 use crate::delassus;
 use crate::geometry::{Vec2, cw};
-use crate::jacobian::Jacobian;
+use crate::jacobian::{Frame, Jacobian};
 use crate::vi::Method;
 
 /// The linearization of one contact's gap.
@@ -105,6 +105,9 @@ impl World {
         df: &[f64],
         q: &mut [f64],
     ) {
+        if let Some((frame, clusters)) = self.frame(c, l) {
+            return jac.push_frame(frame, clusters, df, q);
+        }
         let (n, tau, r) = (l.normal, cw(l.normal), c.row());
         for ((body, sign), x) in c.bodies().into_iter().zip([1.0, -1.0]).zip(l.anchor) {
             let b = &self.bodies[body];
@@ -153,5 +156,30 @@ impl World {
                 jac.push_apply(r + 2, cluster, range.start, &couple[..len], df, q);
             }
         }
+    }
+
+    /// The contact frame of a contact with no rolling row whose moving bodies are rigid (at
+    /// least one), and their clusters: the rows `push_contact` pushes for it, as one frame
+    /// (`jacobian::Frame`); `None` for any other contact.
+    fn frame(&self, c: &Brief, l: &Linearization) -> Option<(Frame, [usize; 2])> {
+        if c.rolling() {
+            return None;
+        }
+        let (n, tau) = (l.normal, cw(l.normal));
+        let mut frame: Option<(Frame, [usize; 2])> = None;
+        for ((body, sign), x) in c.bodies().into_iter().zip([1.0, -1.0]).zip(l.anchor) {
+            let Some(cluster) = self.dofs.cluster_of(body) else { continue };
+            let range = self.dofs.range(body);
+            if range.len() != 3 {
+                return None;
+            }
+            let b = &self.bodies[body];
+            let (rn, rt) = (b.rigid_row(x, n, sign), b.rigid_row(x, tau, sign));
+            frame = Some(match frame {
+                None => (Frame::new(c.row(), range.start, rn, rt), [cluster, cluster]),
+                Some((f, [first, _])) => (f.with_second(range.start, rn, rt), [first, cluster]),
+            });
+        }
+        frame
     }
 }
