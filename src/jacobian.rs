@@ -9,7 +9,7 @@
 //! threads or hashing.
 //!
 //! While every contact pushed is one between rigid bodies with no rolling row, B is stored as
-//! *contact frames* instead ([`Frame`], math note §3.3 "Contact frames"): 64 bytes a contact
+//! *contact frames* instead ([`Frame`], math note §3.3, "Contact frames from the rows"): 64 bytes a contact
 //! where its four segments take 176. The body form reads the frames; any other reader gets the
 //! segments, made from the frames on its first call ([`Jacobian::segments`]), and a segment
 //! pushed after frames turns them into segments first. Either way the segments are those the
@@ -58,7 +58,7 @@ impl Segment {
 /// (−cw(n), q_B), with `arm` = [p_A, q_A, p_B, q_B]; `b` is [`NO_BODY`] for a contact with one
 /// moving body. The segments' entries as pushed, since negating is exact: a contact's rows on a
 /// rigid body are `Body::rigid_row`'s (s n.x, s n.y, s p) with s = ±1.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct Frame {
     pub(crate) row: u32,
     pub(crate) a: u32,
@@ -160,8 +160,8 @@ pub struct Jacobian {
     pub rows: usize,
     segments: Vec<Segment>,
     vals: Vec<f64>,
-    /// B as frames, while `framed`, with their bodies' clusters (the second [`NO_BODY`] for a
-    /// frame of one body), which only the segments made from them read.
+    /// B as frames, while `framed`, with their bodies' clusters (the second unused for a frame
+    /// of one body), which only the segments made from them read.
     framed: bool,
     frames: Vec<Frame>,
     clusters: Vec<[u32; 2]>,
