@@ -9,9 +9,9 @@
 //!
 //! Group `body_form_product`: the body form's W z (math note §3.3) on a triangular lattice of
 //! 100 × 100 rigid disks (10,000 bodies, 59,202 rows, 118,404 segments, like the 10,000-disk
-//! pile), on one thread and on two (the calling thread and one micropool worker): above
-//! `HALVES_FROM` (`delassus/bodies.rs`) segments the product runs in two halves
-//! (`BodyPart::halves`), the same bits either way.
+//! pile, pushed as contact frames as the world pushes a pile's contacts), on one thread and on
+//! two (the calling thread and one micropool worker): above `HALVES_FROM` (`delassus/bodies.rs`)
+//! segments the product runs in two halves (`BodyPart::apply`), the same bits either way.
 //!
 //! Run: `cargo bench --bench vi` (sample size 10; about two minutes on an idle machine).
 
@@ -111,6 +111,7 @@ fn products(c: &mut Criterion) {
 fn lattice(side: usize) -> (pbdda::delassus::ContactOperator, Vec<f64>) {
     use pbdda::body::Body;
     use pbdda::geometry::{Vec2, cw};
+    use pbdda::jacobian::Frame;
     use pbdda::model::{BodyModel, BodySpec, Material, Plane, Shape};
     let n = side * side;
     let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
@@ -144,16 +145,16 @@ fn lattice(side: usize) -> (pbdda::delassus::ContactOperator, Vec<f64>) {
     }
     let mut jac = pbdda::jacobian::Jacobian::default();
     jac.reset(2 * pairs.len());
+    // each contact as one frame, as the world's rows push a rigid contact (B v is not needed)
+    let (v, mut bv) = (vec![0.0; map.total()], vec![0.0; jac.rows]);
     for (k, &(a, b)) in pairs.iter().enumerate() {
         let normal = (bodies[a].centroid - bodies[b].centroid).normalize();
         let x = 0.5 * (bodies[a].centroid + bodies[b].centroid);
-        for (body, sign) in [(a, 1.0), (b, -1.0)] {
-            let r = map.range(body);
-            let cluster = map.cluster_of(body).expect("free");
-            for (row, dir) in [(2 * k, normal), (2 * k + 1, cw(normal))] {
-                jac.push(row, cluster, r.start, r.len(), bodies[body].shape_row(x, dir) * sign);
-            }
-        }
+        let rows = |body: usize, sign| [normal, cw(normal)].map(|dir| bodies[body].rigid_row(x, dir, sign));
+        let ([na, ta], [nb, tb]) = (rows(a, 1.0), rows(b, -1.0));
+        let frame = Frame::new(2 * k, map.range(a).start, na, ta).with_second(map.range(b).start, nb, tb);
+        let clusters = [a, b].map(|body| map.cluster_of(body).expect("free"));
+        jac.push_frame(frame, clusters, &v, &mut bv);
     }
     let z = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0).collect();
     let op = pbdda::delassus::ContactOperator::with_scratch(

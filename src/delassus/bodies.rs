@@ -23,9 +23,10 @@ use std::ops::Range;
 use std::sync::{Arc, Mutex};
 
 /// From this many segments on, a product over a scene of single bodies runs in two halves on
-/// both cores ([`BodyPart::apply`], [`BodyPart::response`]). The 1,000-disk pile has about 12,000 segments, which stay
-/// in one core's cache and take some 50 µs a product; the 10,000-disk pile about 120,000, whose
-/// 5 MB do not (`benches/vi.rs`, group `body_form_product`: 517 µs on one thread, 273 on two).
+/// both cores ([`BodyPart::apply`], [`BodyPart::response`]). The 1,000-disk pile has about
+/// 12,000 segments, which stay in one core's cache and take some 50 µs a product; the
+/// 10,000-disk pile about 120,000, whose 5 MB do not (`benches/vi.rs`, group
+/// `body_form_product`: 517 µs on one thread, 273 on two).
 const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' part of W (see the module docs). Its products run over the

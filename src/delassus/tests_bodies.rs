@@ -210,10 +210,10 @@ fn no_response_unless_every_segment_is_on_a_body() {
 /// between rigid bodies at rows 0 and 1, a contact on one body at rows 2 and 3), then a segment
 /// of four entries, give the segments of pushing all as segments, in push order, with the same
 /// entries (a negation is exact); so do frames pushed out of row order (in their push order),
-/// and sorting by row (the segments' sort). While framed, `segments` makes the same segments from the frames. The body form reads
-/// the frames only when every cluster is a rigid body in body form laid out as the frames
-/// read it (`Blocks::dense`): with one disk outside the body form it reads the segments, with
-/// the diagonal `add_diagonal` gives them.
+/// and sorting by row (the segments' sort). While framed, `segments` makes the same segments
+/// from the frames. The body form reads the frames only when every cluster is a rigid body in
+/// body form laid out as the frames read it (`Blocks::dense`): with one disk outside the body
+/// form it reads the segments, with the diagonal `add_diagonal` gives them.
 #[test]
 fn frames_turn_into_their_segments() {
     let n = Vec2::new(0.6, -0.8);

@@ -176,8 +176,8 @@ impl World {
             brief.push(Brief::of(geom, start_gap, &law, memory));
             laws.push(law);
         };
-        // as found when that is key order, else sorted through the indices (a copy, where
-        // `InOrder::for_each` would move each into a vector of its own all the same)
+        // as found when that is key order, else copied into key order through the indices (each
+        // geometry copied once, as the pass before copied each into a contact of its own)
         let halves = match geoms.order {
             None => geoms.halves,
             Some(order) => [order.into_iter().map(|k| geoms.halves[0][k].clone()).collect(), Vec::new()],
