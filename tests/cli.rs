@@ -151,3 +151,54 @@ fn closed_output_pipes_do_not_stop_a_run() {
     let steps = std::fs::read_to_string(out.join("steps.csv")).expect("steps.csv");
     assert_eq!(steps.lines().count(), 101, "header and 100 steps");
 }
+
+/// The world makes contact records only for the steps whose state a run writes
+/// (`Settings::contact_records`, set by `run` before each step). The §7.1 example (100 steps)
+/// run with `output.every = 7` and with every step written: the sparse run's contacts.csv
+/// holds exactly the rows the full run wrote for steps 7, 14, …, 98 and the last, 100 (15
+/// steps); its bodies.csv and VTK file of step 7 are the full run's, and steps.csv's contacts
+/// column (counted whether the records are made or not) is the same on all 100 steps. The
+/// records do not feed the motion, so the rows agree byte for byte. (`steps_every = 1`: steps.csv
+/// would otherwise follow `every`.)
+#[test]
+fn contact_records_only_on_written_steps() {
+    let run = |name: &str, every: &str| {
+        let out = scratch(name);
+        let set = format!("output.every={every}");
+        let o = pbdda(&[
+            "run",
+            &example("7_1_disk_heap.toml"),
+            "--out",
+            out.to_str().unwrap(),
+            "-q",
+            "--set",
+            &set,
+            "--set",
+            "output.steps_every=1",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        out
+    };
+    let (full, sparse) = (run("records-full", "1"), run("records-sparse", "7"));
+    let read = |dir: &Path, f: &str| std::fs::read_to_string(dir.join(f)).expect("file");
+    let written = |step: usize| step.is_multiple_of(7) || step == 100;
+    let rows_of = |text: String, keep: &dyn Fn(usize) -> bool| -> Vec<String> {
+        let step = |l: &str| l.split(',').next().unwrap().parse::<usize>().unwrap();
+        text.lines().skip(1).filter(|l| keep(step(l))).map(str::to_string).collect()
+    };
+    for file in ["contacts.csv", "bodies.csv"] {
+        let want = rows_of(read(&full, file), &written);
+        assert_eq!(rows_of(read(&sparse, file), &|_| true), want, "{file}");
+    }
+    assert_eq!(rows_of(read(&sparse, "contacts.csv"), &|_| true).len(), 15 * 3);
+    let counts = |dir: &Path| -> Vec<String> {
+        read(dir, "steps.csv").lines().skip(1).map(|l| l.split(',').nth(3).unwrap().to_string()).collect()
+    };
+    assert_eq!(counts(&sparse), counts(&full));
+    assert_eq!(counts(&full).len(), 100);
+    let vtu = |dir: &Path| std::fs::read(dir.join("vtk").join("step_000007.vtu")).expect("step 7's file");
+    assert_eq!(vtu(&sparse), vtu(&full));
+    for dir in [full, sparse] {
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -70,7 +70,7 @@ impl Progress {
     /// One more step done.
     pub fn step(&mut self, rec: &StepRecord) {
         if let Some(bar) = &self.bar {
-            bar.set_message(format!("t = {:.4} s, {} contacts", rec.time, rec.contacts.len()));
+            bar.set_message(format!("t = {:.4} s, {} contacts", rec.time, rec.contact_count));
             bar.inc(1);
             return;
         }
@@ -128,7 +128,7 @@ impl RunSummary {
         self.worst_residual = self.worst_residual.max(rec.residual);
         self.unconverged_steps += usize::from(!rec.converged);
         self.inner_iterations += rec.inner_iterations;
-        self.max_contacts = self.max_contacts.max(rec.contacts.len());
+        self.max_contacts = self.max_contacts.max(rec.contact_count);
         for w in &rec.warnings {
             *self.by_kind.entry(warning_kind(w)).or_default() += 1;
         }

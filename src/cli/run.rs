@@ -58,6 +58,12 @@ impl Writers {
     fn log(&mut self, line: &str) -> Result<(), OutputError> {
         self.csv.log(line)
     }
+
+    /// Whether step `step` writes contacts (`contacts.csv` or a VTK file): the world makes the
+    /// contact records of those steps only (`Settings::contact_records`).
+    fn writes_contacts(&self, step: usize) -> bool {
+        self.csv.writes_state(step) || self.vtk.as_ref().is_some_and(|vtk| vtk.writes(step))
+    }
 }
 
 /// Set by SIGINT or SIGTERM; the run loop stops after the current step.
@@ -123,6 +129,8 @@ pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let model = scene::parse_with(&checkpoint.scene, &checkpoint.scene_file, &overrides)?;
     let mut world = World::new(model);
+    // the replayed steps write nothing: no contact records
+    world.settings.contact_records = false;
     for _ in 0..checkpoint.step {
         world.step().map_err(|e| miette!("replaying to the checkpoint: {e}"))?;
     }
@@ -144,6 +152,7 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
     let mut summary = RunSummary::default();
     let started = Instant::now();
     while world.step_index < steps {
+        world.settings.contact_records = writers.writes_contacts(world.step_index + 1);
         let rec = match world.step() {
             Ok(rec) => rec,
             Err(e) => {

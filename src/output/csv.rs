@@ -182,10 +182,16 @@ impl CsvWriter {
         for e in &rec.events {
             writeln!(self.log.rows, "event: {e}")?;
         }
-        if s.is_multiple_of(self.every) || s == self.last_step {
+        if self.writes_state(s) {
             self.write_state(world, rec)?;
         }
         Ok(())
+    }
+
+    /// Whether step `step`'s state (bodies, contacts, monitors) is written: every `every`-th
+    /// step and the last.
+    pub fn writes_state(&self, step: usize) -> bool {
+        step.is_multiple_of(self.every) || step == self.last_step
     }
 
     fn steps_row(&mut self, rec: &StepRecord) -> io::Result<()> {
@@ -194,7 +200,7 @@ impl CsvWriter {
             self.steps.rows,
             "{s},{t},{},{},{},{},{},{},{}",
             Num(rec.dt),
-            rec.contacts.len(),
+            rec.contact_count,
             rec.outer_iterations,
             rec.inner_iterations,
             Num(rec.residual),

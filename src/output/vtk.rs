@@ -539,7 +539,7 @@ impl VtkWriter {
     /// updated `.pvd`.
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let s = rec.step;
-        if !s.is_multiple_of(self.every) && s != self.last_step {
+        if !self.writes(s) {
             return Ok(());
         }
         let mut grid = std::mem::take(&mut self.grid);
@@ -550,6 +550,11 @@ impl VtkWriter {
         written?;
         self.written.push((rec.time, name));
         self.write_pvd()
+    }
+
+    /// Whether step `step` gets a file: every `every`-th step and the last.
+    pub fn writes(&self, step: usize) -> bool {
+        step.is_multiple_of(self.every) || step == self.last_step
     }
 
     fn write_vtu(&self, grid: &Grid, name: &str) -> Result<(), OutputError> {

@@ -177,7 +177,11 @@ pub struct StepRecord {
     pub step: usize,
     pub time: f64,
     pub dt: f64,
+    /// The step's contacts, in key order; empty when the world was asked for none
+    /// ([`super::Settings::contact_records`]).
     pub contacts: Vec<ContactRecord>,
+    /// How many contacts the step had (with or without their records).
+    pub contact_count: usize,
     pub outer_iterations: usize,
     pub inner_iterations: usize,
     pub residual: f64,

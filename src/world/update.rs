@@ -131,7 +131,8 @@ impl World {
     /// bond; a joint that broke in the step was solved again unbonded: `World::trial`), and a
     /// warning for each pair that started the step penetrating deeper than 5 % of the contact
     /// threshold. One pass over the contacts makes all three (each pass over them, 216 bytes
-    /// apiece as they were then, cost 0.1–0.2 ms of a warm step of the 10,000-disk pile).
+    /// apiece as they were then, cost 0.1–0.2 ms of a warm step of the 10,000-disk pile); the
+    /// records only when asked for ([`super::Settings::contact_records`]).
     pub(super) fn close_contacts(
         &mut self,
         contacts: &Geoms,
@@ -142,48 +143,48 @@ impl World {
         let mut memory = Vec::with_capacity(contacts.len());
         let mut warnings = Vec::new();
         let deep = -0.05 * self.threshold;
-        let records = contacts
-            .iter()
-            .zip(&s.laws)
-            .enumerate()
-            .map(|(k, (c, law))| {
-                let r = law.row;
-                let (pn, pt) = (s.z2[r], s.z2[r + 1]);
-                let state = if law.bonded {
-                    ContactState::Bonded
-                } else if pn <= 0.0 {
-                    ContactState::Open
-                } else if pt.abs() >= rule.tangential_bound(k, &s.z2) * (1.0 - 1e-9) {
-                    ContactState::Slide
-                } else {
-                    ContactState::Stick
-                };
-                let mut force = [0.0; 3];
-                crate::jacobian::copy_small(&mut force[..law.rows()], &s.z2[r..r + law.rows()]);
-                memory.push((c.key, Memory { force, closed: s.state.closed[k], bonded: law.bonded }));
-                if c.g0 < deep {
-                    warnings.push(Warning::Penetration {
-                        step,
-                        body_a: self.bodies[c.a].name.clone(),
-                        body_b: self.bodies[c.b].name.clone(),
-                        depth: -c.g0,
-                    });
-                }
-                ContactRecord {
-                    key: c.key,
-                    kind: c.kind,
-                    body_a: c.a,
-                    body_b: c.b,
-                    point: c.point,
-                    normal: c.normal,
-                    normal_force: pn,
-                    shear_force: pt,
-                    rolling_moment: (law.rolling > 0.0).then(|| s.z2[r + 2]),
-                    gap: s.state.gaps[r],
-                    state,
-                }
-            })
-            .collect();
+        let on = self.settings.contact_records;
+        let mut records = Vec::with_capacity(if on { contacts.len() } else { 0 });
+        for (k, (c, law)) in contacts.iter().zip(&s.laws).enumerate() {
+            let r = law.row;
+            let mut force = [0.0; 3];
+            crate::jacobian::copy_small(&mut force[..law.rows()], &s.z2[r..r + law.rows()]);
+            memory.push((c.key, Memory { force, closed: s.state.closed[k], bonded: law.bonded }));
+            if c.g0 < deep {
+                warnings.push(Warning::Penetration {
+                    step,
+                    body_a: self.bodies[c.a].name.clone(),
+                    body_b: self.bodies[c.b].name.clone(),
+                    depth: -c.g0,
+                });
+            }
+            if !on {
+                continue;
+            }
+            let (pn, pt) = (s.z2[r], s.z2[r + 1]);
+            let state = if law.bonded {
+                ContactState::Bonded
+            } else if pn <= 0.0 {
+                ContactState::Open
+            } else if pt.abs() >= rule.tangential_bound(k, &s.z2) * (1.0 - 1e-9) {
+                ContactState::Slide
+            } else {
+                ContactState::Stick
+            };
+            records.push(ContactRecord {
+                key: c.key,
+                kind: c.kind,
+                body_a: c.a,
+                body_b: c.b,
+                point: c.point,
+                normal: c.normal,
+                normal_force: pn,
+                shear_force: pt,
+                rolling_moment: (law.rolling > 0.0).then(|| s.z2[r + 2]),
+                gap: s.state.gaps[r],
+                state,
+            });
+        }
         self.memory = ContactMemory::from_entries(memory);
         (records, warnings)
     }
