@@ -163,9 +163,8 @@ pub fn detect_in(
     reach: f64,
     depth: f64,
 ) -> Vec<ContactGeom> {
-    let found = detect_in_order(shapes, &pairs, reach, depth);
-    let mut contacts = Vec::with_capacity(found.count());
-    found.for_each(|c| contacts.push(c));
+    let [mut contacts, second] = detect_in_order(shapes, &pairs, reach, depth).into_sorted();
+    contacts.extend(second);
     contacts
 }
 
@@ -188,13 +187,12 @@ impl InOrder {
         self.halves.iter().map(Vec::len).sum()
     }
 
-    /// `f` on each contact in key order: as found when that is key order, else through the
-    /// indices.
-    pub fn for_each(self, mut f: impl FnMut(ContactGeom)) {
-        let InOrder { halves, order } = self;
-        match order {
-            None => halves.into_iter().flatten().for_each(f),
-            Some(order) => order.into_iter().for_each(|k| f(halves[0][k].clone())),
+    /// The contacts in key order, in two vectors read one after the other: as found when that
+    /// is key order, else copied in the indices' order into the first (each contact copied once).
+    pub fn into_sorted(self) -> [Vec<ContactGeom>; 2] {
+        match self.order {
+            None => self.halves,
+            Some(order) => [order.into_iter().map(|k| self.halves[0][k].clone()).collect(), Vec::new()],
         }
     }
 }
@@ -331,11 +329,7 @@ mod tests {
             fixed[0] = true;
             let pairs = broad::candidate_pairs(&shapes, &fixed, 0.1);
             assert!(pairs.len() >= HALVES_FROM, "{} pairs", pairs.len());
-            let read = |found: InOrder| {
-                let mut contacts = Vec::new();
-                found.for_each(|c| contacts.push(c));
-                contacts
-            };
+            let read = |found: InOrder| found.into_sorted().concat();
             let (halves, serial) = (
                 in_order(&shapes, &pairs, 0.1, 0.1, HALVES_FROM),
                 in_order(&shapes, &pairs, 0.1, 0.1, usize::MAX),

@@ -59,40 +59,46 @@ impl BodyPart {
     pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
         let framed = blocks.dense && jac.frames().is_some();
         let mut part = BodyPart { blocks, framed, ..Default::default() };
-        if let Some(frames) = jac.frames().filter(|_| framed) {
-            part.count = jac.len();
-            part.split = if part.count >= HALVES_FROM { frames.len() / 2 } else { 0 };
-            let kinv = &part.blocks.kinv;
-            let add = |frames: &[Frame], diagonal: &mut [f64], row0| {
-                frames.iter().for_each(|f| frames::add_diagonal(f, kinv, diagonal, row0))
-            };
-            match part.split {
-                0 => add(frames, diagonal, 0),
-                at => {
-                    let row = frames[at].row();
-                    debug_assert!(frames.windows(2).all(|f| f[0].row() < f[1].row()), "frames in row order");
-                    let (d1, d2) = diagonal.split_at_mut(row);
-                    micropool::join(|| add(&frames[..at], d1, 0), || add(&frames[at..], d2, row));
-                }
-            }
-            return part;
-        }
-        let all = jac.segments();
-        part.split = if all.len() >= HALVES_FROM { split_of(all) } else { 0 };
+        let large = jac.len() >= HALVES_FROM;
+        part.split = match jac.frames().filter(|_| framed) {
+            Some(frames) if large => frames.len() / 2,
+            None if large => split_of(jac.segments()),
+            _ => 0,
+        };
         part.count = match part.split {
-            0 => part.add_diagonal(jac, 0..all.len(), diagonal, 0),
-            at => {
-                let row = all[at].row();
+            0 => part.half_diagonal(jac, 0, diagonal, 0),
+            _ => {
+                let row = part.half(jac, 1).first_row();
                 let (d1, d2) = diagonal.split_at_mut(row);
                 let part = &part;
                 let (c1, c2) = micropool::join(
-                    || part.add_diagonal(jac, 0..at, d1, 0),
-                    || part.add_diagonal(jac, at..all.len(), d2, row),
+                    || part.half_diagonal(jac, 0, d1, 0),
+                    || part.half_diagonal(jac, 1, d2, row),
                 );
                 c1 + c2
             }
         };
         part
+    }
+
+    /// Half `half` of B's share of diag(W), into `diagonal` (whose rows start at row `row0`),
+    /// over its frames or its segments ([`Self::add_diagonal`]); the number of its segments on
+    /// body-form clusters.
+    fn half_diagonal(&self, jac: &Jacobian, half: usize, diagonal: &mut [f64], row0: usize) -> usize {
+        match self.half(jac, half) {
+            Half::Frames(frames) => {
+                let mut count = 0;
+                for f in frames {
+                    frames::add_diagonal(f, &self.blocks.kinv, diagonal, row0);
+                    count += f.segments();
+                }
+                count
+            }
+            Half::Segments(segs) => {
+                let first = if half == 0 { 0 } else { self.split };
+                self.add_diagonal(jac, first..first + segs.len(), diagonal, row0)
+            }
+        }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -208,7 +214,7 @@ impl BodyPart {
 
     /// Whether every segment of B is on a body (a scene of single bodies).
     fn whole(&self, jac: &Jacobian) -> bool {
-        self.framed || self.count == jac.len()
+        self.count == jac.len()
     }
 
     /// Half `half` (0 or 1) of B over the halves of `split` (without a split, half 0 is all of B

@@ -213,7 +213,8 @@ fn no_response_unless_every_segment_is_on_a_body() {
 /// and sorting by row (the segments' sort). While framed, `segments` makes the same segments
 /// from the frames. The body form reads the frames only when every cluster is a rigid body in
 /// body form laid out as the frames read it (`Blocks::dense`): with one disk outside the body
-/// form it reads the segments, with the diagonal `add_diagonal` gives them.
+/// form it reads the segments: the diagonal of the other two disks' rows (0 and 1), and none on
+/// disk 2's (2 and 3).
 #[test]
 fn frames_turn_into_their_segments() {
     let n = Vec2::new(0.6, -0.8);
@@ -268,12 +269,19 @@ fn frames_turn_into_their_segments() {
     let (_, map, flex, blocks) = rigid_disks(3);
     let partial = Arc::new(Blocks::new(&flex, &map, &[true, true, false]));
     let (framed, _) = as_frames(&[0, 1]);
-    for (blocks, reads_frames) in [(blocks, true), (partial, false)] {
+    let diagonal = |blocks: Arc<Blocks>, reads_frames: bool| {
         let mut diagonal = vec![0.0; 5];
         let part = BodyPart::new(&framed, blocks, &mut diagonal);
         assert_eq!(part.framed, reads_frames);
-        let mut serial = vec![0.0; 5];
-        part.add_diagonal(&framed, 0..framed.len(), &mut serial, 0);
-        assert!(diagonal.iter().zip(&serial).all(|(a, b)| a.to_bits() == b.to_bits()), "diagonal");
-    }
+        diagonal
+    };
+    // the segments' diagonal (`add_diagonal`) over all three disks in body form
+    let mut serial = vec![0.0; 5];
+    let all = BodyPart::new(&as_segments(&[]), Arc::clone(&blocks), &mut [0.0; 5]);
+    all.add_diagonal(&framed, 0..framed.len(), &mut serial, 0);
+    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(bits(&diagonal(blocks, true), &serial), "the frames' diagonal");
+    // disk 2 (the second frame's rows 2 and 3) outside the body form adds nothing there
+    assert!(bits(&diagonal(partial, false), &[serial[0], serial[1], 0.0, 0.0, 0.0]), "partial");
+    assert!(serial[..4].iter().all(|&d| d > 0.0));
 }

@@ -59,7 +59,7 @@ impl ConnectorWriter {
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let Some(out) = &mut self.out else { return Ok(()) };
         let s = rec.step;
-        if !(s.is_multiple_of(self.every) || s == self.last_step) {
+        if !super::written(s, self.every, self.last_step) {
             return Ok(());
         }
         let io_err = |source| OutputError::Io { path: self.path.clone(), source };

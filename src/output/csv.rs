@@ -173,7 +173,7 @@ impl CsvWriter {
 
     fn format_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
         let s = rec.step;
-        if s.is_multiple_of(self.steps_every) || s == self.last_step {
+        if super::written(s, self.steps_every, self.last_step) {
             self.steps_row(rec)?;
         }
         for w in &rec.warnings {
@@ -191,7 +191,7 @@ impl CsvWriter {
     /// Whether step `step`'s state (bodies, contacts, monitors) is written: every `every`-th
     /// step and the last.
     pub fn writes_state(&self, step: usize) -> bool {
-        step.is_multiple_of(self.every) || step == self.last_step
+        super::written(step, self.every, self.last_step)
     }
 
     fn steps_row(&mut self, rec: &StepRecord) -> io::Result<()> {

@@ -8,3 +8,9 @@ pub mod render;
 pub mod results;
 pub mod rows;
 pub mod vtk;
+
+/// Whether a writer that writes every `every`-th step writes step `step` of a run whose last
+/// step is `last` (the last is always written: docs/scene-format.md, `[output]`).
+pub(crate) fn written(step: usize, every: usize, last: usize) -> bool {
+    step.is_multiple_of(every) || step == last
+}

@@ -554,7 +554,7 @@ impl VtkWriter {
 
     /// Whether step `step` gets a file: every `every`-th step and the last.
     pub fn writes(&self, step: usize) -> bool {
-        step.is_multiple_of(self.every) || step == self.last_step
+        super::written(step, self.every, self.last_step)
     }
 
     fn write_vtu(&self, grid: &Grid, name: &str) -> Result<(), OutputError> {

@@ -176,13 +176,7 @@ impl World {
             brief.push(Brief::of(geom, start_gap, &law, memory));
             laws.push(law);
         };
-        // as found when that is key order, else copied into key order through the indices (each
-        // geometry copied once, as the pass before copied each into a contact of its own)
-        let halves = match geoms.order {
-            None => geoms.halves,
-            Some(order) => [order.into_iter().map(|k| geoms.halves[0][k].clone()).collect(), Vec::new()],
-        };
-        let mut geoms = Geoms(halves);
+        let mut geoms = Geoms(geoms.into_sorted());
         geoms.0.iter_mut().flatten().for_each(&mut add);
         if joints {
             let partners = joint_partners((0..geoms.len()).map(|k| geoms.get(k)));

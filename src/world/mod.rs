@@ -106,8 +106,7 @@ pub struct Pipeline {
 impl Pipeline {
     /// Keeps the storage of rows that are no longer needed for the next ones.
     fn recycle(&mut self, rows: rows::Rows) {
-        let jac = rows.w.into_jacobian();
-        self.rows.spare.push(jac);
+        self.rows.spare.push(rows.w.into_jacobian());
     }
 }
 
