@@ -17,6 +17,13 @@ pub type Dofs = SVector<f64, MAX_DOF>;
 /// A per-body matrix (mass, stiffness, flexibility), padded with zeros.
 pub type BodyMatrix = SMatrix<f64, MAX_DOF, MAX_DOF>;
 
+/// The rigid-body entries (u, v, θ) of the row of direction `dir` at `x`, scaled by `s`, of a
+/// body whose centroid is `centroid` ([`Body::rigid_row`]).
+#[inline(always)]
+pub fn rigid_row(centroid: Vec2, x: Vec2, dir: Vec2, s: f64) -> [f64; 3] {
+    [dir.x * s, dir.y * s, cross(x - centroid, dir) * s]
+}
+
 /// The body's outline in the current configuration.
 #[derive(Debug, Clone)]
 pub enum Outline {
@@ -366,7 +373,7 @@ impl Body {
     /// The rigid-body entries (u, v, θ) of [`Self::scaled_shape_row`]: all of a rigid body's row.
     #[inline(always)]
     pub fn rigid_row(&self, x: Vec2, dir: Vec2, s: f64) -> [f64; 3] {
-        [dir.x * s, dir.y * s, cross(x - self.centroid, dir) * s]
+        rigid_row(self.centroid, x, dir, s)
     }
 
     /// Displacement `T(x) d` of the material point at `x` (linearized).

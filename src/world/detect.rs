@@ -1,7 +1,7 @@
 //! Stage 2: contacts within the threshold, with their laws and memory (math note §5, §4).
 
 use super::World;
-use super::rows::Linearization;
+use super::rows::{Linearization, Site};
 use crate::contact::broad::PairCache;
 use crate::contact::law::Law;
 use crate::contact::set::{ContactMemory, InterfaceTable, Memory, joint_partners};
@@ -99,6 +99,8 @@ impl Brief {
 pub(super) struct Detected {
     pub geoms: Geoms,
     pub brief: Vec<Brief>,
+    /// Per body, what a contact frame reads of it.
+    pub sites: Vec<Site>,
 }
 
 /// What the solve starts from, made in detection's pass over the contacts: the warm start (last
@@ -135,14 +137,19 @@ impl World {
         // their shapes: the law of each contact reads its two bodies' materials, which through
         // the bodies took 0.3 of detection's loop in perf's samples on the 10,000-disk pile
         let bodies = self.bodies.len();
-        let (mut materials, mut fixed, mut meshes) =
-            (Vec::with_capacity(bodies), Vec::with_capacity(bodies), Vec::with_capacity(bodies));
+        let (mut materials, mut fixed, mut meshes, mut sites) = (
+            Vec::with_capacity(bodies),
+            Vec::with_capacity(bodies),
+            Vec::with_capacity(bodies),
+            Vec::with_capacity(bodies),
+        );
         let mut u_max = 0.0f64;
         for (b, body) in self.bodies.iter().enumerate() {
             u_max = u_max.max(body.max_motion(&df[self.dofs.range(b)]));
             materials.push(body.material);
             fixed.push(body.fixed);
             meshes.push(body.mesh.is_some());
+            sites.push(Site::of(body, b, &self.dofs));
         }
         let threshold = self.threshold.max(2.5 * u_max);
         let shapes = self.shapes();
@@ -184,7 +191,7 @@ impl World {
                 l.partner = p;
             }
         }
-        let found = Detected { geoms, brief };
+        let found = Detected { geoms, brief, sites };
         (found, Inputs { warm, laws, lin }, threshold)
     }
 

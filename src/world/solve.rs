@@ -250,7 +250,7 @@ impl World {
         // own linearization), the response to z1 and the increment; whether the solver's last
         // product is of z1 (the gaps came from it)
         let (rows, state, last, dp1, increment, product) = loop {
-            let rows = runner.rows(|a| self.rows(brief, lin, df, |_| false, a));
+            let rows = runner.rows(|a| self.rows(found, lin, df, |_| false, a));
             let kind = if refinements == 0 { SolveKind::Geometry } else { SolveKind::GeometryRefined };
             let gaps = runner.run(self, &laws, &rows, &rows.q, &mut z1, kind, false);
             let product = gaps.is_some();
@@ -271,7 +271,7 @@ impl World {
                 next => break (rows, state, next, dp, Increment { dbar, motions }, product),
             }
         };
-        let rows2 = runner.rows(|a| self.impact_rows(brief, &rows.lin, last.as_ref(), &state, df, a));
+        let rows2 = runner.rows(|a| self.impact_rows(found, &rows.lin, last.as_ref(), &state, df, a));
         let (z2, dp2) = if rows2.is_some() || state.velocity {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
             let q2 = velocity_gaps(brief, &solve2.q, &state);
@@ -295,20 +295,21 @@ impl World {
     /// impacting contacts.
     fn impact_rows(
         &self,
-        contacts: &[Brief],
+        found: &Detected,
         lin: &[Linearization],
         refined: Option<&Refined>,
         state: &Classified,
         df: &[f64],
         scratch: &mut super::rows::Scratch,
     ) -> Option<Rows> {
+        let contacts = &found.brief;
         let impacting = |k: usize| state.impacting_rows[contacts[k].row()];
         let deformable_impact = state.impacts
             && (0..contacts.len())
                 .any(|k| impacting(k) && contacts[k].bodies().iter().any(|&b| self.bodies[b].deformable));
         deformable_impact.then(|| {
             let lin = refined.map_or_else(|| lin.to_vec(), |r| r.apply(lin));
-            self.rows(contacts, lin, df, impacting, scratch)
+            self.rows(found, lin, df, impacting, scratch)
         })
     }
 
