@@ -24,6 +24,19 @@ pub fn rigid_row(centroid: Vec2, x: Vec2, dir: Vec2, s: f64) -> [f64; 3] {
     [dir.x * s, dir.y * s, cross(x - centroid, dir) * s]
 }
 
+/// Upper bound of |T(x) d| over a body that is no mesh, of reach `reach`, for its DOFs `d`
+/// (none: fixed; rigid 3; particle 4, its strain ε isotropic; polygon 6):
+/// |(u0, v0)| + (|θ| + |εx| + |εy| + |γxy|) reach.
+pub fn max_displacement(d: &[f64], reach: f64) -> f64 {
+    let strain = match d.len() {
+        0 => return 0.0,
+        4 => 2.0 * d[3].abs(),
+        6 => d[3].abs() + d[4].abs() + d[5].abs(),
+        _ => 0.0,
+    };
+    Vec2::new(d[0], d[1]).norm() + (d[2].abs() + strain) * reach
+}
+
 /// The body's outline in the current configuration.
 #[derive(Debug, Clone)]
 pub enum Outline {
@@ -203,11 +216,7 @@ impl Body {
     pub fn max_motion(&self, d: &[f64]) -> f64 {
         match &self.mesh {
             Some(fe) => fe.max_motion(d),
-            None => {
-                let mut dofs = Dofs::zeros();
-                crate::jacobian::copy_small(&mut dofs.as_mut_slice()[..d.len()], d);
-                self.max_displacement(&dofs)
-            }
+            None => max_displacement(d, self.reach),
         }
     }
 
@@ -387,15 +396,6 @@ impl Body {
             return fe.point_velocity(x);
         }
         self.displacement(x, &self.velocity)
-    }
-
-    /// Upper bound of |T(x) d| over the body.
-    pub fn max_displacement(&self, d: &Dofs) -> f64 {
-        if self.fixed {
-            return 0.0;
-        }
-        let strain = self.strain_of(d);
-        Vec2::new(d[0], d[1]).norm() + (d[2].abs() + strain.abs().sum()) * self.reach
     }
 
     /// Where the material point `x` goes under the increment `d`, with the post-adjusted

@@ -12,7 +12,7 @@
 //! per halving.
 
 use super::{Event, StepError, StepRecord, TrackedPoint, World};
-use crate::body::Body;
+use crate::body::{Body, max_displacement};
 use crate::connector::Connector;
 use crate::contact::ContactKey;
 use crate::dofs::DofMap;
@@ -182,9 +182,14 @@ impl World {
         }
     }
 
-    /// Per body, the largest motion of a point under the increment `dbar`.
-    pub(super) fn motions(&self, dbar: &[f64]) -> Vec<f64> {
-        (0..self.bodies.len()).map(|b| self.bodies[b].max_motion(&dbar[self.dofs.range(b)])).collect()
+    /// Per body, the largest motion of a point under the increment `dbar`, from the bodies'
+    /// reaches `reach` (`Detected::reach`; a mesh's motion is its fastest node's).
+    pub(super) fn motions(&self, reach: &[Option<f64>], dbar: &[f64]) -> Vec<f64> {
+        let motion = |b: usize, reach: Option<f64>| {
+            let d = &dbar[self.dofs.range(b)];
+            reach.map_or_else(|| self.bodies[b].max_motion(d), |r| max_displacement(d, r))
+        };
+        reach.iter().enumerate().map(|(b, &r)| motion(b, r)).collect()
     }
 
     /// The first body whose largest point motion (`motions`) is farther than half the detection

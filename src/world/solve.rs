@@ -257,7 +257,7 @@ impl World {
             let state = self.classify(found, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, None);
             let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
-            let motions = self.motions(&dbar);
+            let motions = self.motions(&found.reach, &dbar);
             let shapes = &mut runner.pipeline.shapes;
             let next = (refinements < MAX_REFINEMENTS)
                 .then(|| self.refine(found, &rows.lin, &dbar, &motions, &state, shapes))
