@@ -155,3 +155,43 @@ fn strain_and_scaled_rows_match_their_definitions() {
         }
     }
 }
+
+/// `max_motion` bounds |T(x) d| over the body (the refinement and the step's motion checks rely
+/// on it): for rigid and deformable disks and the L-shape, with every DOF of d nonzero, no
+/// outline point (the L's vertices, where the linear map T(x) d peaks, and 64 points of the
+/// circle) moves farther. It is exact, to round-off, where the triangle inequality it uses is
+/// an equality: a pure translation (every point) and a pure rotation (the farthest point, at
+/// the body's reach). A fixed body has no DOFs and does not move.
+#[test]
+fn max_motion_bounds_every_point() {
+    let disk = Shape::Disk { center: Vec2::new(1.0, -2.0), radius: 0.7 };
+    let circle: Vec<Vec2> = (0..64)
+        .map(|k| {
+            let a = k as f64 * std::f64::consts::TAU / 64.0;
+            Vec2::new(1.0, -2.0) + 0.7 * Vec2::new(a.cos(), a.sin())
+        })
+        .collect();
+    for (shape, points) in [(disk, circle), (Shape::Polygon { vertices: l_shape() }, l_shape())] {
+        for model in [BodyModel::Rigid, BodyModel::Deformable] {
+            let body = Body::new(&spec(shape.clone(), model), &material(), Plane::Stress);
+            let n = body.ndof();
+            let farthest =
+                |d: &Dofs| points.iter().map(|&x| body.displacement(x, d).norm()).fold(0.0, f64::max);
+            let d = Dofs::from_fn(|i, _| if i < n { [3e-3, -2e-3, 1e-3, 4e-4, -5e-4, 2e-4][i] } else { 0.0 });
+            let bound = body.max_motion(&d.as_slice()[..n]);
+            assert!(farthest(&d) <= bound * (1.0 + 1e-12), "{model:?} {n}: {} > {bound}", farthest(&d));
+            let translation = Dofs::from_fn(|i, _| [3e-3, -4e-3, 0.0, 0.0, 0.0, 0.0][i]);
+            let bound = body.max_motion(&translation.as_slice()[..n]);
+            assert!((bound - 5e-3).abs() < 1e-15 && (farthest(&translation) - bound).abs() < 1e-15);
+            let rotation = Dofs::from_fn(|i, _| if i == 2 { 2e-3 } else { 0.0 });
+            let bound = body.max_motion(&rotation.as_slice()[..n]);
+            assert!((farthest(&rotation) - bound).abs() < 1e-15 * bound.max(1.0), "{model:?} {n}");
+        }
+    }
+    let fixed = Body::new(
+        &BodySpec { fixed: true, ..spec(Shape::Polygon { vertices: l_shape() }, BodyModel::Rigid) },
+        &material(),
+        Plane::Stress,
+    );
+    assert_eq!(fixed.max_motion(&[]), 0.0);
+}
