@@ -237,7 +237,8 @@ impl World {
         cache: &mut crate::contact::broad::PairCache,
     ) -> Option<Trouble> {
         let limit = self.penetration_limit();
-        let (shapes, fixed) = (self.shapes(), self.fixed());
+        // (one pass over the bodies for both)
+        let (shapes, fixed): (Vec<_>, Vec<_>) = self.bodies.iter().map(|b| (b.shape(), b.fixed)).unzip();
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);
         // the start overlap is looked up only for a contact deeper than the limit (a bisection
