@@ -210,7 +210,11 @@ impl World {
 
 /// The contact frame of a contact with no rolling row whose moving bodies are rigid (at least
 /// one), and their clusters: the rows `push_contact` pushes for it, as one frame
-/// (`jacobian::Frame`); `None` for any other contact.
+/// (`jacobian::Frame`); `None` for any other contact. Inlined: returned through memory, the
+/// result was written by stores that the caller's wider loads could not forward from in one
+/// build (the 48-byte `Law` experiment of math note §3.3), and the rows stage went ×1.5 with
+/// the same instructions.
+#[inline(always)]
 fn frame(c: &Brief, l: &Linearization, sites: &[Site]) -> Option<(Frame, [usize; 2])> {
     if c.rolling() {
         return None;
