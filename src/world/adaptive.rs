@@ -237,8 +237,7 @@ impl World {
         cache: &mut crate::contact::broad::PairCache,
     ) -> Option<Trouble> {
         let limit = self.penetration_limit();
-        // (one pass over the bodies for both)
-        let (shapes, fixed): (Vec<_>, Vec<_>) = self.bodies.iter().map(|b| (b.shape(), b.fixed)).unzip();
+        let (shapes, fixed) = self.shapes_and_fixed();
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);
         // the start overlap is looked up only for a contact deeper than the limit (a bisection

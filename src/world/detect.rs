@@ -226,7 +226,8 @@ impl World {
     /// edge-edge joints bond.
     pub(super) fn cement(&mut self) {
         let closed = 1e-9 * self.threshold;
-        let bonds = detect(&self.shapes(), &self.fixed(), self.threshold)
+        let (shapes, fixed) = self.shapes_and_fixed();
+        let bonds = detect(&shapes, &fixed, self.threshold)
             .into_iter()
             .filter(|g| {
                 let law = self.interface(g.a, g.b);

@@ -320,12 +320,10 @@ impl World {
         self.model.time.step
     }
 
-    fn shapes(&self) -> Vec<BodyShape> {
-        self.bodies.iter().map(Body::shape).collect()
-    }
-
-    fn fixed(&self) -> Vec<bool> {
-        self.bodies.iter().map(|b| b.fixed).collect()
+    /// The bodies' shapes and fixed flags, as contact detection reads them (one pass over the
+    /// bodies for both).
+    fn shapes_and_fixed(&self) -> (Vec<BodyShape>, Vec<bool>) {
+        self.bodies.iter().map(|b| (b.shape(), b.fixed)).unzip()
     }
 
     /// v0 of the coming step: the initial velocity on the first (trial) step, then k v1 with k the
