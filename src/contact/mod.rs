@@ -76,10 +76,10 @@ impl ContactKind {
     }
 }
 
-/// Renames the kind of a contact on a mesh body (`mesh[b]`): a mesh's outer loop is detected as a
+/// Renames the kind of a contact on a mesh body (`mesh(b)`): a mesh's outer loop is detected as a
 /// polygon block (math note §9.2: L-L as B-B, P-L as P-B, B-L as B-B).
-pub fn label_mesh_kind(g: &mut ContactGeom, mesh: &[bool]) {
-    g.kind = match (g.kind, mesh[g.a], mesh[g.b]) {
+pub fn label_mesh_kind(g: &mut ContactGeom, mesh: impl Fn(usize) -> bool) {
+    g.kind = match (g.kind, mesh(g.a), mesh(g.b)) {
         (ContactKind::PB, true, _) | (ContactKind::PB, _, true) => ContactKind::PL,
         (ContactKind::BB, true, true) => ContactKind::LL,
         (ContactKind::BB, true, false) | (ContactKind::BB, false, true) => ContactKind::BL,

@@ -143,8 +143,7 @@ impl World {
         // through the bodies took 0.3 of detection's loop in perf's samples on the 10,000-disk
         // pile
         let bodies = self.bodies.len();
-        let (mut materials, mut fixed, mut meshes, mut sites, mut reach, mut shapes) = (
-            Vec::with_capacity(bodies),
+        let (mut materials, mut fixed, mut sites, mut reach, mut shapes) = (
             Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
@@ -156,7 +155,6 @@ impl World {
             u_max = u_max.max(body.max_motion(&df[self.dofs.range(b)]));
             materials.push(body.material);
             fixed.push(body.fixed);
-            meshes.push(body.mesh.is_some());
             sites.push(Site::of(body, b, &self.dofs));
             reach.push(body.mesh.is_none().then_some(body.reach));
             shapes.push(body.shape());
@@ -164,7 +162,8 @@ impl World {
         let threshold = self.threshold.max(2.5 * u_max);
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         let geoms = detect_in_order(&shapes, &pairs, threshold, self.threshold);
-        let any_mesh = meshes.contains(&true);
+        // (a mesh is the body without a reach)
+        let any_mesh = reach.contains(&None);
         let interfaces = InterfaceTable::new(&self.model.interfaces, self.model.materials.len());
         // one pass over the detected contacts, in key order, which makes all the solve reads of
         // them (each pass over them, 216 bytes apiece as they were then, cost 0.3–0.6 ms of a
@@ -176,7 +175,7 @@ impl World {
             (Vec::with_capacity(2 * n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
         let mut add = |geom: &mut ContactGeom| {
             if any_mesh {
-                label_mesh_kind(geom, &meshes);
+                label_mesh_kind(geom, |b| reach[b].is_none());
             }
             joints |= geom.joint.is_some();
             let memory = memory.get(&geom.key);
