@@ -8,14 +8,17 @@
 //! or Bᵀ runs over the segments in the order they were pushed, so results do not depend on
 //! threads or hashing.
 //!
-//! While every contact pushed is one between rigid bodies with no rolling row, B is stored as
-//! *contact frames* instead ([`Frame`], math note §3.3, "Contact frames from the rows"): 64 bytes a contact
-//! where its four segments take 176. The body form reads the frames; any other reader gets the
-//! segments, made from the frames on its first call ([`Jacobian::segments`]), and a segment
-//! pushed after frames turns them into segments first. Either way the segments are those the
-//! contacts would have pushed, in the same order.
+//! A contact between rigid bodies with no rolling row is stored as a *contact frame* instead
+//! ([`Frame`], math note §3.3, "Contact frames from the rows"): 64 bytes a contact where its
+//! four segments take 176. Frames and segments are kept side by side, each in push order, with
+//! where the push order changes from one to the other ([`Jacobian::pieces`]). The body form
+//! reads the frames and the segments in that order; any other reader gets all the segments,
+//! made from the frames on its first call ([`Jacobian::segments`]), or turns the frames into
+//! segments for good ([`Jacobian::unframe`]). Either way the segments are those the contacts
+//! would have pushed, in the same order.
 
 use crate::body::{Dofs, MAX_DOF};
+use std::ops::Range;
 
 /// The part of one row of B on one DOF range, in 20 bytes: its entries are the Jacobian's
 /// `vals[val..val + width]` ([`Jacobian::vals`]). The products stream over every segment several
@@ -153,22 +156,33 @@ pub fn copy_small(to: &mut [f64], v: &[f64]) {
     }
 }
 
-/// B as segments in push order, their entries packed in `vals`, or as contact frames (see the
-/// module docs).
+/// B as segments and contact frames, each in push order, their segments' entries packed in
+/// `vals` (see the module docs).
 #[derive(Debug, Clone, Default)]
 pub struct Jacobian {
     pub rows: usize,
     segments: Vec<Segment>,
     vals: Vec<f64>,
-    /// B as frames, while `framed`, with their bodies' clusters (the second unused for a frame
-    /// of one body), which only the segments made from them read.
-    framed: bool,
+    /// The frames, with their bodies' clusters (the second unused for a frame of one body),
+    /// which only the segments made from them read.
     frames: Vec<Frame>,
     clusters: Vec<[u32; 2]>,
-    /// The segments the frames give, made on first need.
+    /// The push order: (frames, segments) pushed before each change from one to the other
+    /// ([`Self::pieces`]), and whether the last push was a frame.
+    switches: Vec<[u32; 2]>,
+    last_framed: bool,
+    /// The segments the frames give, made on first need, their entries past `vals`.
     made: std::sync::OnceLock<(Vec<Segment>, Vec<f64>)>,
-    /// The number of segments, whether as segments or as frames.
+    /// The number of segments, pushed as segments or as frames.
     len: usize,
+}
+
+/// A run of B in push order ([`Jacobian::pieces`]): a range of its frames, or of the segments
+/// pushed as segments.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Piece {
+    Frames(Range<usize>),
+    Segments(Range<usize>),
 }
 
 impl Jacobian {
@@ -179,15 +193,28 @@ impl Jacobian {
         jac
     }
 
-    /// Clears the Jacobian for `rows` rows, keeping its storage: frames until a segment is pushed.
+    /// Clears the Jacobian for `rows` rows, keeping its storage.
     pub fn reset(&mut self, rows: usize) {
         self.rows = rows;
         self.segments.clear();
         self.vals.clear();
         self.frames.clear();
         self.clusters.clear();
+        self.switches.clear();
         self.made = Default::default();
-        (self.framed, self.len) = (true, 0);
+        (self.last_framed, self.len) = (false, 0);
+    }
+
+    /// Notes a push of a frame (`framed`) or a segment: where the push order changes kind.
+    #[inline(always)]
+    fn note_push(&mut self, framed: bool) {
+        if framed != self.last_framed {
+            self.switches.push([self.frames.len() as u32, self.segments.len() as u32]);
+            self.last_framed = framed;
+        }
+        if self.made.get().is_some() {
+            self.made = Default::default();
+        }
     }
 
     /// Adds the entries `vals[..len]` of row `row` at DOFs `start..start + len` of `cluster`.
@@ -203,9 +230,7 @@ impl Jacobian {
         if vals.is_empty() {
             return;
         }
-        if self.framed {
-            self.unframe();
-        }
+        self.note_push(false);
         // the u32 fields (see `Segment`)
         debug_assert!(row.max(cluster).max(start + vals.len()).max(self.vals.len()) < u32::MAX as usize);
         let (row, cluster, start) = (row as u32, cluster as u32, start as u32);
@@ -217,51 +242,103 @@ impl Jacobian {
 
     /// Adds contact frame `f`, whose bodies are in the clusters `clusters` (the second unused
     /// for a frame of one body), and `out[row] += s · v[start..]` for each of its segments s in
-    /// push order (the sums of [`Self::push_apply`]). Stored as a frame while B is framed and the
-    /// frames come in row order (the body form cuts them into halves anywhere: `delassus`),
-    /// else as its segments.
+    /// push order (the sums of [`Self::push_apply`]). Stored as a frame while the frames come in
+    /// row order (the body form cuts them into halves anywhere: `delassus`), else as its
+    /// segments.
     pub fn push_frame(&mut self, f: Frame, clusters: [usize; 2], v: &[f64], out: &mut [f64]) {
         let (r, e) = (f.row(), f.entries());
         let starts = [f.a, f.a, f.b, f.b];
         for (k, e) in e.iter().enumerate().take(f.segments()) {
             out[r + k % 2] += dot_n::<3>(e, &v[starts[k] as usize..]);
         }
-        if !self.framed || self.frames.last().is_some_and(|last| last.row() >= r) {
-            return self.push_segments(&f, clusters.map(|c| c as u32));
+        if self.frames.last().is_some_and(|last| last.row() >= r) {
+            return Self::push_segments(&f, clusters.map(|c| c as u32), &mut |row, c, start, e| {
+                self.push_slice(row, c, start, e)
+            });
         }
         debug_assert!(r + 1 < u32::MAX as usize && clusters[0].max(clusters[1]) < u32::MAX as usize);
+        self.note_push(true);
         self.frames.push(f);
         self.clusters.push(clusters.map(|c| c as u32));
         self.len += f.segments();
     }
 
-    /// Pushes frame `f`'s segments.
-    fn push_segments(&mut self, f: &Frame, clusters: [u32; 2]) {
+    /// Frame `f`'s segments, as `push(row, cluster, start, entries)` in push order.
+    fn push_segments(f: &Frame, clusters: [u32; 2], push: &mut impl FnMut(usize, usize, usize, &[f64])) {
         let e = f.entries();
         let on = [(f.a, clusters[0]), (f.a, clusters[0]), (f.b, clusters[1]), (f.b, clusters[1])];
         for (k, (start, cluster)) in on.into_iter().enumerate().take(f.segments()) {
-            self.push_slice(f.row() + k % 2, cluster as usize, start as usize, &e[k]);
+            push(f.row() + k % 2, cluster as usize, start as usize, &e[k]);
         }
     }
 
-    /// Turns the frames into their segments (a segment is pushed after them).
-    #[cold]
-    fn unframe(&mut self) {
-        self.framed = false;
-        let (frames, clusters) = (std::mem::take(&mut self.frames), std::mem::take(&mut self.clusters));
-        self.len = 0;
-        for (f, c) in frames.iter().zip(clusters) {
-            self.push_segments(f, c);
+    /// Turns the frames into their segments, in push order (for a reader of segments only).
+    pub fn unframe(&mut self) {
+        if self.frames.is_empty() {
+            return;
         }
-        self.made = Default::default();
+        let old = std::mem::replace(self, Jacobian::with_rows(self.rows));
+        for piece in old.pieces(0..old.frames.len(), 0..old.segments.len()) {
+            match piece {
+                Piece::Frames(r) => {
+                    for (f, c) in old.frames[r.clone()].iter().zip(&old.clusters[r]) {
+                        Self::push_segments(f, *c, &mut |row, c, start, e| self.push_slice(row, c, start, e));
+                    }
+                }
+                Piece::Segments(r) => old.segments[r]
+                    .iter()
+                    .for_each(|s| self.push_slice(s.row(), s.cluster(), s.start(), old.vals(s))),
+            }
+        }
     }
 
-    /// B's contact frames, while B is stored so (see the module docs).
-    pub fn frames(&self) -> Option<&[Frame]> {
-        self.framed.then_some(&self.frames[..])
+    /// B in push order within frames `frames` and segments `segs` (ranges of
+    /// [`Self::frames`] and [`Self::own_segments`]): runs of frames and of segments in turn.
+    pub fn pieces(&self, frames: Range<usize>, segs: Range<usize>) -> impl Iterator<Item = Piece> + '_ {
+        let ends = [self.frames.len() as u32, self.segments.len() as u32];
+        let bounds = std::iter::once([0, 0]).chain(self.switches.iter().copied()).chain([ends]);
+        let mut last = [0, 0];
+        bounds.skip(1).filter_map(move |at| {
+            let [f0, s0] = std::mem::replace(&mut last, at).map(|x| x as usize);
+            let [f1, s1] = at.map(|x| x as usize);
+            let (f, s) = (f0.max(frames.start)..f1.min(frames.end), s0.max(segs.start)..s1.min(segs.end));
+            match () {
+                _ if f.start < f.end => Some(Piece::Frames(f)),
+                _ if s.start < s.end => Some(Piece::Segments(s)),
+                _ => None,
+            }
+        })
     }
 
-    /// The number of segments (made from the frames or not).
+    /// How many segments were pushed before frame `frame` (as segments, not frames').
+    pub fn segments_before(&self, frame: usize) -> usize {
+        let mut at = 0;
+        for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+            match piece {
+                Piece::Frames(r) if r.contains(&frame) => return at,
+                Piece::Segments(r) => at = r.end,
+                Piece::Frames(_) => {}
+            }
+        }
+        at
+    }
+
+    /// B's contact frames, in push order (see the module docs).
+    pub fn frames(&self) -> &[Frame] {
+        &self.frames
+    }
+
+    /// The clusters of each frame's bodies (the second unused for a frame of one body).
+    pub fn frame_clusters(&self) -> &[[u32; 2]] {
+        &self.clusters
+    }
+
+    /// The segments pushed as segments, in push order (not the frames').
+    pub fn own_segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// The number of segments (the frames' included).
     pub fn len(&self) -> usize {
         self.len
     }
@@ -270,31 +347,57 @@ impl Jacobian {
         self.len == 0
     }
 
-    /// The segments and their entries: B's own, or made once from its frames.
-    #[inline(always)]
-    fn parts(&self) -> (&[Segment], &[f64]) {
-        if !self.framed {
-            return (&self.segments, &self.vals);
+    /// Every segment in push order, the frames' included: B's own, or made once (with the
+    /// frames' entries past `vals`, so that a segment's `val` finds its entries either way).
+    fn all(&self) -> &[Segment] {
+        if self.frames.is_empty() {
+            return &self.segments;
         }
-        let (segments, vals) = self.made.get_or_init(|| {
-            let mut made = Jacobian { rows: self.rows, ..Default::default() };
-            for (f, &c) in self.frames.iter().zip(&self.clusters) {
-                made.push_segments(f, c);
-            }
-            (made.segments, made.vals)
-        });
-        (segments, vals)
+        &self
+            .made
+            .get_or_init(|| {
+                let (own, mut segments, mut vals) = (self.vals.len() as u32, Vec::new(), Vec::new());
+                for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+                    match piece {
+                        Piece::Segments(r) => segments.extend_from_slice(&self.segments[r]),
+                        Piece::Frames(r) => {
+                            for (f, c) in self.frames[r.clone()].iter().zip(&self.clusters[r]) {
+                                Self::push_segments(f, *c, &mut |row, c, start, e: &[f64]| {
+                                    let val = own + vals.len() as u32;
+                                    let (row, cluster, start, width) =
+                                        (row as u32, c as u32, start as u32, 3);
+                                    segments.push(Segment { row, cluster, start, width, val });
+                                    extend_small(&mut vals, e);
+                                });
+                            }
+                        }
+                    }
+                }
+                (segments, vals)
+            })
+            .0
     }
 
-    /// The segments in push order (made from the frames on the first call while B is framed).
+    /// Every segment in push order, the frames' included (made from them on the first call
+    /// when B has frames).
     pub fn segments(&self) -> &[Segment] {
-        self.parts().0
+        self.all()
+    }
+
+    /// The entries of B from `s.val` on: pushed as segments, or made from a frame.
+    #[inline(always)]
+    fn vals_from(&self, s: &Segment) -> &[f64] {
+        let (at, own) = (s.val as usize, self.vals.len());
+        match at < own {
+            true => &self.vals[at..],
+            false => &self.made.get().expect("a frame's segment comes from `segments`").1[at - own..],
+        }
     }
 
     /// The entries of segment s.
     #[inline(always)]
     pub fn vals(&self, s: &Segment) -> &[f64] {
-        &self.parts().1[s.val as usize..s.val as usize + s.width()]
+        &self.vals_from(s)[..s.width()]
     }
 
     /// The entries of a segment of width N, as an array: one bounds check where a slice and its
@@ -302,7 +405,7 @@ impl Jacobian {
     #[inline(always)]
     pub fn vals_n<const N: usize>(&self, s: &Segment) -> &[f64; N] {
         debug_assert_eq!(s.width(), N);
-        range_n::<N>(self.parts().1, s.val as usize)
+        range_n::<N>(self.vals_from(s), 0)
     }
 
     /// Segment s's entries dotted with its range of `v` (a global vector, or a cluster-local
@@ -318,9 +421,7 @@ impl Jacobian {
 
     /// Sorts the segments by row, stably: a row's segments become consecutive, in push order.
     pub fn sort_by_row(&mut self) {
-        if self.framed {
-            self.unframe();
-        }
+        self.unframe();
         self.segments.sort_by_key(|s| s.row);
     }
 
@@ -347,16 +448,35 @@ impl Jacobian {
     }
 
     /// `out += Bᵀ z` over the rows that `keep` selects.
+    /// `out += Bᵀ z` over the rows that `keep` selects, in push order (the frames read as they
+    /// are, with their segments' sums).
     pub fn transpose_apply(&self, z: &[f64], keep: impl Fn(usize) -> bool, out: &mut [f64]) {
-        for s in self.segments().iter().filter(|s| keep(s.row())) {
-            let (zr, vals) = (z[s.row()], self.vals(s));
-            match s.width() {
-                // a rigid body's segment, unrolled
-                3 => {
-                    let x = &mut out[s.start()..s.start() + 3];
-                    (0..3).for_each(|i| x[i] += vals[i] * zr);
+        let add = |out: &mut [f64], start: usize, vals: &[f64], zr: f64| match vals.len() {
+            // a rigid body's segment, unrolled
+            3 => {
+                let x = range_n_mut::<3>(out, start);
+                (0..3).for_each(|i| x[i] += vals[i] * zr);
+            }
+            n => out[start..start + n].iter_mut().zip(vals).for_each(|(x, v)| *x += v * zr),
+        };
+        for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+            match piece {
+                Piece::Segments(r) => {
+                    for s in self.segments[r].iter().filter(|s| keep(s.row())) {
+                        add(out, s.start(), self.vals(s), z[s.row()]);
+                    }
                 }
-                _ => out[s.dofs()].iter_mut().zip(vals).for_each(|(x, v)| *x += v * zr),
+                Piece::Frames(r) => {
+                    for f in &self.frames[r] {
+                        let (e, starts) = (f.entries(), [f.a, f.a, f.b, f.b]);
+                        for (k, e) in e.iter().enumerate().take(f.segments()) {
+                            let row = f.row() + k % 2;
+                            if keep(row) {
+                                add(out, starts[k] as usize, e, z[row]);
+                            }
+                        }
+                    }
+                }
             }
         }
     }

@@ -87,9 +87,14 @@ impl Blocks {
         blocks.all_rigid =
             blocks.n.iter().zip(&blocks.square).enumerate().all(|(b, (&n, &s))| n == 3 && s == 9 * b);
         blocks.dense = blocks.all_rigid
-            && blocks.n.len() == body.len()
+            && blocks.every()
             && blocks.start.iter().enumerate().all(|(b, &start)| start == 3 * b);
         blocks
+    }
+
+    /// Whether every cluster is a body in body form.
+    pub fn every(&self) -> bool {
+        self.n.len() == self.compact.len()
     }
 
     /// Whether these blocks are what [`Blocks::new`] would make now: the same factors (by

@@ -14,11 +14,11 @@
 //! cancelling contact forces of the light block, and two steps no longer converged.
 
 use super::blocks::{Blocks, NONE};
-use super::cut::split_of;
-use super::frames::{self, gather, scatter};
+use super::cut::{Cut, cut_of};
+use super::frames::{self, Half};
 use crate::body::MAX_DOF;
 use crate::cluster::block_times;
-use crate::jacobian::{Frame, Jacobian, Segment, dot, dot_n, range_n, range_n_mut};
+use crate::jacobian::{Frame, Jacobian, Piece, Segment, dot, dot_n, range_n, range_n_mut};
 use std::ops::Range;
 use std::sync::{Arc, Mutex};
 
@@ -30,23 +30,20 @@ use std::sync::{Arc, Mutex};
 const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' part of W (see the module docs). Its products run over the
-/// operator's own Jacobian (passed in), whose segments on body-form clusters it reads in push
-/// order (which fixes every sum's order), or, when B is stored as contact frames of rigid bodies
-/// (`jacobian::Frame`), over the frames (a third of the bytes, the same sums); its body vectors
-/// are indexed by global DOF, so a segment's DOFs are its own (math note §3.3).
+/// operator's own Jacobian (passed in): over B's contact frames (`jacobian::Frame`, a third of
+/// the bytes of their segments, the same sums) and its segments on body-form clusters, in push
+/// order, which fixes every sum's order; its body vectors are indexed by global DOF, so a
+/// segment's DOFs are its own (math note §3.3). Every frame's bodies must be rigid bodies in
+/// body form (`ContactOperator::with_scratch` turns the frames into segments otherwise).
 #[derive(Debug, Default)]
 pub(super) struct BodyPart {
     /// The bodies' ranges and blocks, shared with the scratch that keeps them across steps.
     blocks: Arc<Blocks>,
-    /// How many of B's segments are on body-form clusters.
+    /// How many of B's segments (the frames' included) are on body-form clusters.
     count: usize,
-    /// Whether the passes read B's frames: B is stored so and every body is a rigid one in body
-    /// form, laid out as the frames read them (`Blocks::dense`).
-    framed: bool,
-    /// Where B splits into two halves whose rows do not overlap (every row of the first below
-    /// every row of the second), at about half of it: a frame when `framed`, else a segment; 0
+    /// Where B splits into two halves whose rows do not overlap, at about half of it; `None`
     /// when it does not split so.
-    split: usize,
+    split: Option<Cut>,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -54,26 +51,19 @@ pub(super) struct BodyPart {
 impl BodyPart {
     /// The part over the bodies of `blocks`, adding its share of diag(W) to `diagonal`: from
     /// [`HALVES_FROM`] segments on, over the products' two halves (`split`), one per core, when
-    /// B has them (their rows are apart, so each half adds to its own rows). B's frames come in
-    /// row order (`Jacobian::push_frame`), so they split at their middle.
+    /// B has them (their rows are apart, so each half adds to its own rows).
     pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
-        let framed = blocks.dense && jac.frames().is_some();
-        let mut part = BodyPart { blocks, framed, ..Default::default() };
-        let large = jac.len() >= HALVES_FROM;
-        part.split = match jac.frames().filter(|_| framed) {
-            Some(frames) if large => frames.len() / 2,
-            None if large => split_of(jac.segments()),
-            _ => 0,
-        };
+        debug_assert!(jac.frame_clusters().iter().flatten().all(|&c| blocks.rigid[c as usize] != NONE));
+        let mut part = BodyPart { blocks, ..Default::default() };
+        part.split = if jac.len() >= HALVES_FROM { cut_of(jac) } else { None };
         part.count = match part.split {
-            0 => part.half_diagonal(jac, 0, diagonal, 0),
-            _ => {
-                let row = part.half(jac, 1).first_row();
-                let (d1, d2) = diagonal.split_at_mut(row);
+            None => part.half_diagonal(jac, 0, diagonal, 0),
+            Some(cut) => {
+                let (d1, d2) = diagonal.split_at_mut(cut.row);
                 let part = &part;
                 let (c1, c2) = micropool::join(
                     || part.half_diagonal(jac, 0, d1, 0),
-                    || part.half_diagonal(jac, 1, d2, row),
+                    || part.half_diagonal(jac, 1, d2, cut.row),
                 );
                 c1 + c2
             }
@@ -82,32 +72,26 @@ impl BodyPart {
     }
 
     /// Half `half` of B's share of diag(W), into `diagonal` (whose rows start at row `row0`),
-    /// over its frames or its segments ([`Self::add_diagonal`]); the number of its segments on
-    /// body-form clusters.
+    /// over its segments ([`Self::add_diagonal`]) and its frames (each body's K̃⁻¹ found by its
+    /// first DOF when the blocks are `dense`, else by its cluster); the number of its segments
+    /// on body-form clusters.
     fn half_diagonal(&self, jac: &Jacobian, half: usize, diagonal: &mut [f64], row0: usize) -> usize {
-        match self.half(jac, half) {
-            Half::Frames(frames) => {
-                let mut count = 0;
-                for f in frames {
-                    frames::add_diagonal(f, &self.blocks.kinv, diagonal, row0);
-                    count += f.segments();
-                }
-                count
-            }
-            Half::Segments(segs) => {
-                let first = if half == 0 { 0 } else { self.split };
-                self.add_diagonal(jac, first..first + segs.len(), diagonal, row0)
-            }
+        let Half { frames, segs } = self.half(jac, half);
+        let mut count = self.add_diagonal(jac, segs, diagonal, row0);
+        let Blocks { rigid, kinv, dense, .. } = &*self.blocks;
+        for (f, c) in jac.frames()[frames.clone()].iter().zip(&jac.frame_clusters()[frames]) {
+            let at = match dense {
+                true => [f.a, f.b].map(|a| 3 * a as usize),
+                false => c.map(|c| rigid[c as usize] as usize),
+            };
+            frames::add_diagonal(f, at, kinv, diagonal, row0);
+            count += f.segments();
         }
+        count
     }
 
     pub fn is_empty(&self) -> bool {
         self.count == 0
-    }
-
-    /// B's segments on body-form clusters, in push order.
-    fn segs<'a>(&'a self, jac: &'a Jacobian) -> impl Iterator<Item = &'a Segment> + Clone + 'a {
-        jac.segments().iter().filter(|s| self.on_body(s))
     }
 
     /// Whether segment s is on a body-form cluster.
@@ -160,7 +144,8 @@ impl BodyPart {
         dot(jac.vals(s), &v[local..local + s.width()])
     }
 
-    /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ over B's segments `segs`, whose rows
+    /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ over B's own segments `segs` (not its
+    /// frames': `Jacobian::own_segments`), whose rows
     /// are those of `diagonal`, which starts at row `row0`: each segment's s K̃⁻¹ sᵀ, plus twice
     /// its products with the earlier segments of its row on its body (found through a chain per
     /// row). A rigid body's segment (3 DOFs, the whole body) is its body's only one in its row,
@@ -170,7 +155,7 @@ impl BodyPart {
     /// pile. Returns the number of those segments on body-form clusters.
     fn add_diagonal(&self, jac: &Jacobian, segs: Range<usize>, diagonal: &mut [f64], row0: usize) -> usize {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
-        let all = jac.segments();
+        let all = jac.own_segments();
         // per row of `diagonal` its last segment in the chain, per segment of `segs` the one
         // before (u32, as in `Segment`: half the memory to clear)
         let mut chains: Option<(Vec<u32>, Vec<u32>)> = None;
@@ -217,16 +202,15 @@ impl BodyPart {
         self.count == jac.len()
     }
 
-    /// Half `half` (0 or 1) of B over the halves of `split` (without a split, half 0 is all of B
-    /// and half 1 nothing): its frames when the passes read them, else its segments.
-    fn half<'a>(&self, jac: &'a Jacobian, half: usize) -> Half<'a> {
-        fn cut<T>(all: &[T], at: usize, half: usize) -> &[T] {
-            let at = if at > 0 { at } else { all.len() };
-            if half == 0 { &all[..at] } else { &all[at..] }
-        }
-        match jac.frames().filter(|_| self.framed) {
-            Some(frames) => Half::Frames(cut(frames, self.split, half)),
-            None => Half::Segments(cut(jac.segments(), self.split, half)),
+    /// Half `half` (0 or 1) of B over the halves of `split`; without a split, half 0 is all of
+    /// B and half 1 nothing.
+    fn half(&self, jac: &Jacobian, half: usize) -> Half {
+        let all = Half { frames: 0..jac.frames().len(), segs: 0..jac.own_segments().len() };
+        match (self.split, half) {
+            (None, 0) => all,
+            (None, _) => Half { frames: 0..0, segs: 0..0 },
+            (Some(cut), 0) => Half { frames: 0..cut.frames, segs: 0..cut.segs },
+            (Some(cut), _) => Half { frames: cut.frames..all.frames.end, segs: cut.segs..all.segs.end },
         }
     }
 
@@ -242,33 +226,32 @@ impl BodyPart {
         let (u, v) = guard.split_at_mut(2 * n);
         self.respond(jac, whole, z, u, v);
         let v = &*v;
-        if whole && self.split > 0 {
-            let row = self.half(jac, 1).first_row();
-            let (o1, o2) = out.split_at_mut(row);
+        if let Some(cut) = self.split.filter(|_| whole) {
+            let (o1, o2) = out.split_at_mut(cut.row);
             let read = |half: usize, out: &mut [f64], offset| {
                 if clear {
                     out.fill(0.0);
                 }
-                self.half(jac, half).gather(jac, v, out, offset);
+                self.half(jac, half).gather(jac, |_| true, v, out, offset);
             };
-            micropool::join(|| read(0, o1, 0), || read(1, o2, row));
+            micropool::join(|| read(0, o1, 0), || read(1, o2, cut.row));
             return;
         }
         if clear {
             out.fill(0.0);
         }
+        let all = Half::all(jac);
         match whole {
-            true => self.half(jac, 0).gather(jac, v, out, 0),
-            false => self.segs(jac).for_each(|s| out[s.row()] += jac.dot(s, v)),
+            true => all.gather(jac, |_| true, v, out, 0),
+            false => all.gather(jac, |s| self.on_body(s), v, out, 0),
         }
     }
 
     /// out = K̃⁻¹ Bᵀ z on the bodies' DOFs (out's other entries untouched) when every segment of
-    /// B is on a body, through the frames when B is stored so and over the two halves of `split`
-    /// when it has them; `false` (out untouched) otherwise. The sums of B's transpose product and
-    /// the flexibility's body solves without halves (`Jacobian::transpose_apply`,
-    /// `Flexibility::solve_in_place`); with them, a body with segments in both halves adds its
-    /// two partial sums.
+    /// B is on a body, over the two halves of `split` when it has them; `false` (out untouched)
+    /// otherwise. The sums of B's transpose product and the flexibility's body solves without
+    /// halves (`Jacobian::transpose_apply`, `Flexibility::solve_in_place`); with them, a body
+    /// with segments in both halves adds its two partial sums.
     pub fn response(&self, jac: &Jacobian, z: &[f64], out: &mut [f64]) -> bool {
         if !self.whole(jac) {
             return false;
@@ -279,19 +262,19 @@ impl BodyPart {
         true
     }
 
-    /// v = K̃⁻¹ Bᵀ z on every body (v's other entries untouched) over B's segments on the bodies
-    /// (`whole` when they are all of B's, so that every DOF is a body's), with `u` (twice the
-    /// bodies' DOFs) for Bᵀ z. For a whole scene in two halves of B whose rows do not overlap
-    /// (`split`): each half's generalized forces on a core of its own, and half the bodies'
-    /// solves on each. Each half sums into its own u, and a body adds the two, so that no sum
-    /// depends on the threads that ran it (one thread gives the same bits).
+    /// v = K̃⁻¹ Bᵀ z on every body (v's other entries untouched) over B's frames and its segments
+    /// on the bodies (`whole` when they are all of B's, so that every DOF is a body's), with `u`
+    /// (twice the bodies' DOFs) for Bᵀ z. For a whole scene in two halves of B whose rows do not
+    /// overlap (`split`): each half's generalized forces on a core of its own, and half the
+    /// bodies' solves on each. Each half sums into its own u, and a body adds the two, so that
+    /// no sum depends on the threads that ran it (one thread gives the same bits).
     fn respond(&self, jac: &Jacobian, whole: bool, z: &[f64], u: &mut [f64], v: &mut [f64]) {
         let Blocks { start, n: ns, dofs: n, .. } = &*self.blocks;
         let (u, u2) = u.split_at_mut(*n);
-        if whole && self.split > 0 {
+        if self.split.is_some() && whole {
             let sum = |half: usize, u: &mut [f64]| {
                 u.fill(0.0);
-                self.half(jac, half).scatter(jac, z, u);
+                self.half(jac, half).scatter(jac, |_| true, z, u);
             };
             micropool::join(|| sum(0, u), || sum(1, u2));
             let (u1, u2) = (&*u, &*u2);
@@ -307,10 +290,10 @@ impl BodyPart {
         // u accumulates and starts at zero over the bodies' DOFs (not over a large mesh's)
         if whole {
             u.fill(0.0);
-            self.half(jac, 0).scatter(jac, z, u);
+            Half::all(jac).scatter(jac, |_| true, z, u);
         } else {
             start.iter().zip(ns).for_each(|(&start, &n)| u[start..start + n].fill(0.0));
-            scatter(jac, self.segs(jac), z, u);
+            Half::all(jac).scatter(jac, |s| self.on_body(s), z, u);
         }
         if self.blocks.all_rigid {
             // the rigid bodies' blocks in turn, without the call and the size test per body
@@ -385,45 +368,53 @@ impl BodyPart {
         let rigid = |m: &mut [f64], b: usize, v: &[f64; 3], w: f64| {
             rigid_term(range_n::<9>(root, square[b]), v, w, range_n_mut::<6>(m, packed[b]))
         };
-        // each segment of a frame, with its body (the one whose DOFs start at a is body a / 3:
-        // `Blocks::dense`) and its row's offset in the frame
-        let frame_segments = |f: &Frame| {
-            [f.a, f.a, f.b, f.b].map(|a| a as usize / 3).into_iter().enumerate().take(f.segments())
+        // each segment of a frame, with its body (the one whose DOFs start at a is body a / 3
+        // when the blocks are `dense`, else its cluster's) and its row's offset in the frame
+        let Blocks { dense, compact, .. } = &*self.blocks;
+        let frame_segments = |f: &Frame, c: &[u32; 2]| {
+            let [a, b] = match dense {
+                true => [f.a, f.b].map(|a| a as usize / 3),
+                false => c.map(|c| compact[c as usize] as usize),
+            };
+            [a, a, b, b].into_iter().enumerate().take(f.segments())
         };
-        let frames = jac.frames().filter(|_| self.framed);
-        match frames {
-            Some(frames) => {
-                for f in frames {
-                    let (r, e) = (f.row(), f.entries());
-                    for (k, b) in frame_segments(f) {
-                        rigid(m, b, &e[k], sc[r + k % 2] * sc[r + k % 2]);
+        let frames = |r: Range<usize>| jac.frames()[r.clone()].iter().zip(&jac.frame_clusters()[r]);
+        let own = jac.own_segments();
+        // in push order, as the sums of M over the segments made from the frames
+        for piece in jac.pieces(0..jac.frames().len(), 0..own.len()) {
+            match piece {
+                Piece::Frames(r) => {
+                    for (f, c) in frames(r) {
+                        let (r, e) = (f.row(), f.entries());
+                        for (k, b) in frame_segments(f, c) {
+                            rigid(m, b, &e[k], sc[r + k % 2] * sc[r + k % 2]);
+                        }
                     }
                 }
+                Piece::Segments(r) => self.add_row_terms(jac, &own[r], sc, m, rigid),
             }
-            None => self.add_row_terms(jac, sc, m, rigid),
         }
         for (b, l) in lambda.iter_mut().enumerate() {
             *l = largest_eigenvalue(&m[packed[b]..packed[b + 1]], ns[b]);
         }
-        match frames {
-            Some(frames) => frames
-                .iter()
-                .for_each(|f| frame_segments(f).for_each(|(k, b)| out[f.row() + k % 2] += lambda[b])),
-            None => self.segs(jac).for_each(|s| out[s.row()] += lambda[self.body(s)]),
+        for (f, c) in frames(0..jac.frames().len()) {
+            frame_segments(f, c).for_each(|(k, b)| out[f.row() + k % 2] += lambda[b]);
         }
+        own.iter().filter(|s| self.on_body(s)).for_each(|s| out[s.row()] += lambda[self.body(s)]);
     }
 
-    /// `row_bounds`' M_c += w t_s t_sᵀ over B's segments on the bodies (`rigid` for a rigid
-    /// body's row, unrolled).
+    /// `row_bounds`' M_c += w t_s t_sᵀ over the segments `segs` of B on the bodies (`rigid` for a
+    /// rigid body's row, unrolled).
     fn add_row_terms(
         &self,
         jac: &Jacobian,
+        segs: &[Segment],
         sc: &[f64],
         m: &mut [f64],
         rigid: impl Fn(&mut [f64], usize, &[f64; 3], f64),
     ) {
         let Blocks { n: ns, square, packed, root, .. } = &*self.blocks;
-        for s in self.segs(jac) {
+        for s in segs.iter().filter(|s| self.on_body(s)) {
             let (b, w) = (self.body(s), sc[s.row()] * sc[s.row()]);
             let n = ns[b];
             if n == 3 && s.width() == 3 {
@@ -444,41 +435,6 @@ impl BodyPart {
                 }
                 k += i + 1;
             }
-        }
-    }
-}
-
-/// A part of B as the body form's passes read it ([`BodyPart::half`]).
-enum Half<'a> {
-    Frames(&'a [Frame]),
-    Segments(&'a [Segment]),
-}
-
-impl Half<'_> {
-    /// u += Bᵀ z over the part (u indexed by global DOF; the same sums either way).
-    fn scatter(&self, jac: &Jacobian, z: &[f64], u: &mut [f64]) {
-        match self {
-            Half::Frames(f) => frames::scatter_frames(f, z, u),
-            Half::Segments(s) => scatter(jac, *s, z, u),
-        }
-    }
-
-    /// out[row - offset] += (B v)_row over the part's rows.
-    fn gather(&self, jac: &Jacobian, v: &[f64], out: &mut [f64], offset: usize) {
-        match self {
-            Half::Frames(f) => frames::gather_frames(f, v, out, offset),
-            // (not `gather` without an offset: its offset cost 48 k instructions a warm step of
-            // the 1,000-disk pile)
-            Half::Segments(s) if offset == 0 => s.iter().for_each(|s| out[s.row()] += jac.dot(s, v)),
-            Half::Segments(s) => gather(jac, *s, v, out, offset),
-        }
-    }
-
-    /// The part's first row.
-    fn first_row(&self) -> usize {
-        match self {
-            Half::Frames(f) => f[0].row(),
-            Half::Segments(s) => s[0].row(),
         }
     }
 }

@@ -1,7 +1,46 @@
-//! Where the body form's products cut B's segments into two halves, one per core
-//! (`BodyPart::split`, math note §3.3).
+//! Where the body form's products cut B into two halves, one per core (`BodyPart::split`, math
+//! note §3.3).
 
-use crate::jacobian::Segment;
+use crate::jacobian::{Jacobian, Segment};
+
+/// Where B's two halves meet: the first half is its frames before `frames` and its own segments
+/// (`Jacobian::own_segments`) before `segs`, every row of theirs below `row`; the second half
+/// the rest, every row of theirs at or above `row`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Cut {
+    pub frames: usize,
+    pub segs: usize,
+    pub row: usize,
+}
+
+/// Where B cuts into two halves whose rows do not overlap, at about half of it, or `None`.
+/// Segments alone cut at [`split_of`]; frames alone (they come in row order:
+/// `Jacobian::push_frame`) at their middle. Both cut where the larger of the two would (the
+/// segments pushed before the middle frame, or the frames below the segments' cut), kept
+/// when no row of either half's frames or segments lies on the wrong side of the cut's row
+/// (contacts pushed in row order always pass).
+pub(super) fn cut_of(jac: &Jacobian) -> Option<Cut> {
+    let (frames, segs) = (jac.frames(), jac.own_segments());
+    let cut = if jac.len() - segs.len() >= segs.len() {
+        let at = frames.len() / 2;
+        Cut { frames: at, segs: jac.segments_before(at), row: frames[at].row() }
+    } else {
+        let at = split_of(segs);
+        if at == 0 {
+            return None;
+        }
+        let row = segs[at].row();
+        Cut { frames: frames.partition_point(|f| f.row() < row), segs: at, row }
+    };
+    // frames in row order: the last of the first half, the first of the second; every segment
+    let frames_apart = (cut.frames == 0 || frames[cut.frames - 1].row() + 1 < cut.row)
+        && frames.get(cut.frames).is_none_or(|f| f.row() >= cut.row);
+    let segs_apart = segs.is_empty()
+        || frames.is_empty()
+        || (segs[..cut.segs].iter().all(|s| s.row() < cut.row)
+            && segs[cut.segs..].iter().all(|s| s.row() >= cut.row));
+    (cut.frames + cut.segs > 0 && frames_apart && segs_apart).then_some(cut)
+}
 
 /// Segments past half that [`split_of`] reads one by one (the rest of the second half it reads
 /// on the other core).
@@ -17,7 +56,7 @@ const CUT_WINDOW: usize = 256;
 /// contact), but never at a two-body contact's second row (n on A, t on A, n on B, t on B):
 /// the first rule, which took the first row above the first half and gave up when a later row
 /// lay below it, found no cut when half fell there (`tests_bodies.rs`).
-pub(super) fn split_of(all: &[Segment]) -> usize {
+fn split_of(all: &[Segment]) -> usize {
     let n = all.len();
     let half = n.div_ceil(2).max(1);
     if half >= n {

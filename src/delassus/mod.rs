@@ -23,6 +23,7 @@ use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment};
 use crate::vi::Operator;
+use blocks::NONE;
 use bodies::BodyPart;
 use sprs::CsMat;
 use std::sync::Arc;
@@ -124,7 +125,7 @@ impl ContactOperator {
     /// [`Self::new`] with the work storage of earlier steps; with `bodies`, every single body
     /// with a closed-form K̃⁻¹ is in body form (`bodies.rs`, math note §3.3) instead of explicit.
     pub fn with_scratch(
-        jac: Jacobian,
+        mut jac: Jacobian,
         flex: &Flexibility,
         map: &DofMap,
         limit: usize,
@@ -134,13 +135,23 @@ impl ContactOperator {
         // (through the packed blocks' offsets: each factor behind its own allocation cost 0.17 ms
         // of a warm step of the 10,000-disk pile, a cache miss per cluster)
         let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.closed(c).1.is_some()).collect();
+        let blocks = scratch.blocks(flex, map, &body);
+        // the body form reads the frames of rigid bodies in body form; a frame on any other
+        // cluster (or without the body form) turns into segments, so that from here on every
+        // frame is the body form's and the assembly reads B's own segments only. (With every
+        // cluster in body form no pass over the frames: a frame's bodies are rigid and alone
+        // in their clusters, `rows::Site`.)
+        let rigid = |c: &u32| blocks.rigid[*c as usize] != NONE;
+        if !blocks.every() && !jac.frame_clusters().iter().flatten().all(rigid) {
+            jac.unframe();
+        }
         let mut diagonal = vec![0.0; jac.rows];
         // (every cluster a body in body form answers for every segment without reading them)
-        if body.iter().all(|&b| b) || jac.segments().iter().all(|s| body[s.cluster()]) {
+        if body.iter().all(|&b| b) || jac.own_segments().iter().all(|s| body[s.cluster()]) {
             // a scene of single bodies: nothing to assemble. The assembly's passes over every
             // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
             // a 29 M warm step on the 1,000-disk pile
-            let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
+            let bodies = BodyPart::new(&jac, blocks, &mut diagonal);
             let explicit = CsMat::zero((jac.rows, jac.rows));
             return ContactOperator { jac, explicit, factored: Vec::new(), bodies, diagonal };
         }
@@ -154,7 +165,7 @@ impl ContactOperator {
             })
             .collect();
         let factored = factored_parts(&jac, flex, map, &factored_clusters, &mut diagonal);
-        let bodies = BodyPart::new(&jac, scratch.blocks(flex, map, &body), &mut diagonal);
+        let bodies = BodyPart::new(&jac, blocks, &mut diagonal);
         let outside: Vec<bool> = body.iter().zip(&factored_clusters).map(|(a, b)| *a || *b).collect();
         scratch.places(&jac, map, &outside);
         scratch.columns(&jac, flex);
@@ -250,7 +261,7 @@ impl Operator for ContactOperator {
 /// upper bound is enough for the switch).
 fn cluster_row_counts(jac: &Jacobian, map: &DofMap) -> Vec<usize> {
     let mut counts = vec![0usize; map.clusters()];
-    for s in jac.segments() {
+    for s in jac.own_segments() {
         counts[s.cluster()] += 1;
     }
     counts
@@ -273,7 +284,7 @@ fn factored_parts(
             })
         })
         .collect();
-    for s in jac.segments().iter().filter(|s| factored[s.cluster()]) {
+    for s in jac.own_segments().iter().filter(|s| factored[s.cluster()]) {
         let base = map.cluster_range(s.cluster()).start;
         if let Some(part) = &mut parts[s.cluster()] {
             part.segments.push_slice(s.row(), s.cluster(), s.start() - base, jac.vals(s));
@@ -310,7 +321,7 @@ impl Scratch {
         self.sets.resize_with(clusters, Vec::new);
         self.sets.iter_mut().for_each(Vec::clear);
         let local = |s: &Segment| s.start() - map.cluster_range(s.cluster()).start;
-        for s in jac.segments().iter().filter(|s| flex.is_sparse(s.cluster())) {
+        for s in jac.own_segments().iter().filter(|s| flex.is_sparse(s.cluster())) {
             self.sets[s.cluster()].extend(local(s)..local(s) + s.width());
         }
         for set in &mut self.sets {
@@ -323,7 +334,7 @@ impl Scratch {
                 .map(|c| if flex.is_sparse(c) { self.sets[c].len() } else { map.cluster_range(c).len() }),
         );
         self.seg_at.clear();
-        for s in jac.segments() {
+        for s in jac.own_segments() {
             let set = &self.sets[s.cluster()];
             self.seg_at.push(if flex.is_sparse(s.cluster()) {
                 set.partition_point(|&d| d < local(s))
@@ -340,7 +351,7 @@ impl Scratch {
         let start = &mut self.cluster_start;
         start.clear();
         start.resize(clusters + 1, 0);
-        for s in jac.segments().iter().filter(|s| !factored[s.cluster()]) {
+        for s in jac.own_segments().iter().filter(|s| !factored[s.cluster()]) {
             start[s.cluster() + 1] += 1;
         }
         for c in 0..clusters {
@@ -349,7 +360,7 @@ impl Scratch {
         self.order.clear();
         self.order.resize(start[clusters], 0);
         let mut next = start[..clusters].to_vec();
-        for (si, s) in jac.segments().iter().enumerate().filter(|(_, s)| !factored[s.cluster()]) {
+        for (si, s) in jac.own_segments().iter().enumerate().filter(|(_, s)| !factored[s.cluster()]) {
             self.order[next[s.cluster()]] = si;
             next[s.cluster()] += 1;
         }
@@ -359,10 +370,10 @@ impl Scratch {
         self.cluster_place.clear();
         for c in 0..clusters {
             let part = &mut self.order[start[c]..start[c + 1]];
-            part.sort_by_key(|&si| jac.segments()[si].row());
+            part.sort_by_key(|&si| jac.own_segments()[si].row());
             self.cluster_place.push(self.place_row.len());
             for (k, &si) in part.iter().enumerate() {
-                let row = jac.segments()[si].row();
+                let row = jac.own_segments()[si].row();
                 if k == 0 || self.place_row.last() != Some(&row) {
                     self.place_row.push(row);
                     self.place_seg.push(start[c] + k);
@@ -384,7 +395,7 @@ impl Scratch {
         for p in 0..self.place_row.len() {
             self.place_term.push(self.term_at.len());
             for &si in &self.order[self.place_seg[p]..self.place_seg[p + 1]] {
-                let (s, at) = (&jac.segments()[si], self.seg_at[si]);
+                let (s, at) = (&jac.own_segments()[si], self.seg_at[si]);
                 self.term_at.extend(at..at + s.width());
                 self.term_val.extend_from_slice(jac.vals(s));
             }
@@ -413,7 +424,7 @@ impl Scratch {
                 block = flex.inverse_block(c, &self.sets[c]).map(|g| (c, g));
             }
             for &si in segments {
-                let (s, at) = (&jac.segments()[si], self.seg_at[si]);
+                let (s, at) = (&jac.own_segments()[si], self.seg_at[si]);
                 for (i, &v) in jac.vals(s).iter().enumerate().filter(|(_, v)| **v != 0.0) {
                     match &block {
                         Some((_, g)) => {

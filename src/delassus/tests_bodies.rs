@@ -5,6 +5,7 @@ use crate::body::Body;
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
 use crate::geometry::{Vec2, cw};
+use crate::jacobian::Piece;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
 /// `n` rigid disks of radius 0.5 in a row, one apart, each in body form: the bodies, their DOF
@@ -48,11 +49,13 @@ fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
 /// on two (the calling thread with one micropool worker: the determinism contract). Cleared
 /// first (`clear`, each half its own rows), a vector of NaN gets the same bits as zeros
 /// added to. The same contacts pushed as contact frames (`jacobian::Frame`), with their share of
-/// B v (v = 1/4) summed as the segments' (the same bits), stay frames where
-/// they come in row order (contact order, with or without the wall) and turn into their
-/// segments otherwise; framed, the part reads the frames, cut at the middle frame (5,249 and
-/// 5,250 with the wall), with the segments' diagonal bit for bit and products equal to the
-/// segments' to 1e-12. The response K̃⁻¹ Bᵀ z (`BodyPart::response`) has the bits of B's
+/// B v (v = 1/4) summed as the segments' (the same bits), stay frames where they come in row
+/// order and are pushed as their segments otherwise (contact 0 pushed last; contacts 5,249 to
+/// 5,328 after 5,329), side by side with the frames: 10,499, 10,498, 10,419 and 10,500 frames.
+/// The part reads frames and segments in push order: cut at the middle frame (5,249; 5,209 of
+/// the late order, whose 80 contacts of segments all lie above its row; 5,250 with the wall),
+/// and not at all with contact 0's segments, pushed last below every row; with the segments'
+/// diagonal bit for bit and products equal to the segments' to 1e-12. The response K̃⁻¹ Bᵀ z (`BodyPart::response`) has the bits of B's
 /// transpose product and the flexibility's solves where there is no cut (the same sums in the
 /// same order), and equals them to 1e-12 of its largest entry over the halves (a body with
 /// segments on both sides adds two partial sums), with the same bits on one thread and two.
@@ -90,13 +93,16 @@ fn products_split_only_where_no_row_straddles() {
     };
     let late = (0..5_249).chain([5_329]).chain(5_249..5_329).chain(5_330..n - 1).collect();
     let in_order = || (0..n - 1).collect::<Vec<_>>();
+    // the order, the wall, the segments' cut (segment, its row), the frames' (frame, its row)
     let orders = [
-        (in_order(), false, 21_000, Some(5_249)),
-        ((1..n - 1).chain([0]).collect(), false, 0, None),
-        (late, false, 21_320, None),
-        (in_order(), true, 21_002, Some(5_250)),
+        (in_order(), false, Some((21_000, 10_500)), 10_499, Some((5_249, 10_498))),
+        ((1..n - 1).chain([0]).collect(), false, None, 10_498, None),
+        (late, false, Some((21_320, 10_660)), 10_419, Some((5_209, 10_418))),
+        (in_order(), true, Some((21_002, 10_502)), 10_500, Some((5_250, 10_500))),
     ];
-    for (order, with_wall, split, frame_split) in orders {
+    for (order, with_wall, cut, frames, frame_cut) in orders {
+        let split = cut.map(|(segs, row)| Cut { frames: 0, segs, row });
+        let frame_split = frame_cut.map(|(frames, row)| Cut { frames, segs: 0, row });
         let first = if with_wall { 2 } else { 0 };
         let build = |framed: bool| {
             let mut jac = Jacobian::with_rows(first + 2 * (n - 1));
@@ -108,21 +114,21 @@ fn products_split_only_where_no_row_straddles() {
             (jac, q)
         };
         let ((jac, q), (framed, q_framed)) = (build(false), build(true));
-        assert!(q.iter().zip(&q_framed).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split}: B v");
-        assert_eq!(framed.frames().is_some(), frame_split.is_some(), "split {split}: framed");
+        assert!(q.iter().zip(&q_framed).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split:?}: B v");
+        assert_eq!(framed.frames().len(), frames, "split {split:?}: framed");
         assert_eq!(framed.len(), jac.len());
         let same_segments = framed.segments().iter().zip(jac.segments()).all(|(a, b)| {
             (a.row(), a.cluster(), a.dofs()) == (b.row(), b.cluster(), b.dofs())
                 && framed.vals(a).iter().zip(jac.vals(b)).all(|(x, y)| x.to_bits() == y.to_bits())
         });
-        assert!(same_segments, "split {split}: the frames' segments");
+        assert!(same_segments, "split {split:?}: the frames' segments");
         let mut diagonal = vec![0.0; jac.rows];
         let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
-        assert_eq!((part.split, part.framed), (split, false));
+        assert_eq!(part.split, split);
         let mut serial = vec![0.0; jac.rows];
         part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
         let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-        assert!(bits(&diagonal, &serial), "split {split}: diagonal");
+        assert!(bits(&diagonal, &serial), "split {split:?}: diagonal");
         let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
         // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
         let on = |part: &BodyPart, jac: &Jacobian, threads: usize, clear: bool| {
@@ -132,10 +138,10 @@ fn products_split_only_where_no_row_straddles() {
             out
         };
         let (got, w) = (on(&part, &jac, 2, false), super::super::assemble(&jac, &flex, &map));
-        assert!(bits(&on(&part, &jac, 1, false), &got), "split {split}: threads");
+        assert!(bits(&on(&part, &jac, 1, false), &got), "split {split:?}: threads");
         assert!(
             bits(&on(&part, &jac, 1, true), &got) && bits(&on(&part, &jac, 2, true), &got),
-            "split {split}: clearing"
+            "split {split:?}: clearing"
         );
         response_matches_the_transpose_product(&part, &jac, &z, &flex, &map);
         let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
@@ -143,18 +149,17 @@ fn products_split_only_where_no_row_straddles() {
         let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         for (r, d) in diagonal.iter().enumerate() {
             let wrr = w.get(r, r).copied().unwrap_or(0.0);
-            assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split}, diagonal {r}: {d} vs {wrr}");
+            assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split:?}, diagonal {r}: {d} vs {wrr}");
         }
         let near = |a: &[f64]| a.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale);
-        assert!(near(&got), "split {split}: W z");
-        let Some(at) = frame_split else { continue };
+        assert!(near(&got), "split {split:?}: W z");
         let mut diagonal_f = vec![0.0; jac.rows];
         let part = BodyPart::new(&framed, Arc::clone(&blocks), &mut diagonal_f);
-        assert_eq!((part.split, part.framed), (at, true));
-        assert!(bits(&diagonal_f, &diagonal), "split {split}: the frames' diagonal");
+        assert_eq!(part.split, frame_split);
+        assert!(bits(&diagonal_f, &diagonal), "split {split:?}: the frames' diagonal");
         let got = on(&part, &framed, 2, false);
-        assert!(bits(&on(&part, &framed, 1, true), &got), "split {split}: the frames' threads");
-        assert!(near(&got), "split {split}: the frames' W z");
+        assert!(bits(&on(&part, &framed, 1, true), &got), "split {split:?}: the frames' threads");
+        assert!(near(&got), "split {split:?}: the frames' W z");
         response_matches_the_transpose_product(&part, &framed, &z, &flex, &map);
     }
 }
@@ -178,14 +183,14 @@ fn response_matches_the_transpose_product(
     };
     let got = on(2);
     let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&on(1), &got), "split {}: response threads", part.split);
-    if part.split == 0 {
+    assert!(bits(&on(1), &got), "split {:?}: response threads", part.split);
+    if part.split.is_none() {
         assert!(bits(&got, &want), "response without halves");
     }
     let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     assert!(
         got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale),
-        "split {}: response",
+        "split {:?}: response",
         part.split
     );
 }
@@ -206,22 +211,32 @@ fn no_response_unless_every_segment_is_on_a_body() {
     assert!(out.iter().all(|x| x.is_nan()));
 }
 
-/// B as contact frames (`Jacobian::push_frame`) until a segment comes: two frames (a contact
-/// between rigid bodies at rows 0 and 1, a contact on one body at rows 2 and 3), then a segment
-/// of four entries, give the segments of pushing all as segments, in push order, with the same
-/// entries (a negation is exact); so do frames pushed out of row order (in their push order),
-/// and sorting by row (the segments' sort). While framed, `segments` makes the same segments
-/// from the frames. The body form reads the frames only when every cluster is a rigid body in
-/// body form laid out as the frames read it (`Blocks::dense`): with one disk outside the body
-/// form it reads the segments: the diagonal of the other two disks' rows (0 and 1), and none on
-/// disk 2's (2 and 3).
+/// B as contact frames (`Jacobian::push_frame`) and segments side by side: two frames (a
+/// contact between rigid bodies at rows 0 and 1, a contact on one body at rows 2 and 3), a
+/// segment of four entries at row 4 and a third frame at rows 5 and 6 (pushed in that order:
+/// three runs, `Jacobian::pieces`) give the segments of pushing all as segments, in push order,
+/// with the same entries (a negation is exact), both as `segments` makes them and once turned
+/// into segments (`unframe`). A frame pushed below the last frame's row is pushed as its
+/// segments (frames out of row order, in their push order), and sorting by row sorts the
+/// segments. B v summed as the frames are pushed has the segments' bits.
 #[test]
-fn frames_turn_into_their_segments() {
+fn frames_and_segments_side_by_side() {
     let n = Vec2::new(0.6, -0.8);
     let (na, nb) = ([n.x, n.y, 0.3], [-n.x, -n.y, -0.2]);
     let (ta, tb) = ([cw(n).x, cw(n).y, 0.5], [-cw(n).x, -cw(n).y, 0.7]);
-    let frames = [Frame::new(0, 0, na, ta).with_second(3, nb, tb), Frame::new(2, 6, na, ta)];
-    let segments = [(0, 0, na), (1, 0, ta), (0, 3, nb), (1, 3, tb), (2, 6, na), (3, 6, ta)];
+    let frames =
+        [Frame::new(0, 0, na, ta).with_second(3, nb, tb), Frame::new(2, 6, na, ta), Frame::new(5, 0, nb, tb)];
+    let deformable: &[f64] = &[n.x, n.y, 0.1, 0.2];
+    let segments = [
+        (0, 0, &na[..]),
+        (1, 0, &ta),
+        (0, 3, &nb),
+        (1, 3, &tb),
+        (2, 6, &na),
+        (3, 6, &ta),
+        (4, 3, deformable),
+    ];
+    let last = [(5, 0, &nb[..]), (6, 0, &tb)];
     let v: Vec<f64> = (0..9).map(|i| 0.1 * i as f64 - 0.3).collect();
     let same = |a: &Jacobian, b: &Jacobian| {
         a.len() == b.len()
@@ -230,58 +245,124 @@ fn frames_turn_into_their_segments() {
                     && a.vals(s).iter().zip(b.vals(t)).all(|(x, y)| x.to_bits() == y.to_bits())
             })
     };
-    let as_segments = |extra: &[(usize, usize, &[f64])]| {
-        let mut jac = Jacobian::with_rows(5);
-        for &(row, start, vals) in &segments {
-            jac.push_slice(row, start / 3, start, &vals);
-        }
-        extra.iter().for_each(|&(row, start, vals)| jac.push_slice(row, start / 3, start, vals));
-        jac
-    };
-    let as_frames = |order: &[usize]| {
-        let (mut jac, mut q) = (Jacobian::with_rows(5), vec![0.0; 5]);
-        order.iter().for_each(|&k| jac.push_frame(frames[k], [2 * k, 1 + k], &v, &mut q));
+    let as_segments = |all: &[(usize, usize, &[f64])]| {
+        let (mut jac, mut q) = (Jacobian::with_rows(7), vec![0.0; 7]);
+        all.iter().for_each(|&(row, start, vals)| jac.push_apply(row, start / 3, start, vals, &v, &mut q));
         (jac, q)
     };
-    let (mut framed, q) = as_frames(&[0, 1]);
-    assert_eq!(framed.frames().map(<[Frame]>::len), Some(2));
-    assert!(same(&framed, &as_segments(&[])), "made from the frames");
-    // B v as push_apply sums it
-    let mut want = vec![0.0; 5];
-    let mut plain = Jacobian::with_rows(5);
-    for &(row, start, vals) in &segments {
-        plain.push_apply(row, start / 3, start, &vals, &v, &mut want);
-    }
-    assert!(q.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()), "B v");
-    let deformable: &[f64] = &[n.x, n.y, 0.1, 0.2];
-    framed.push_slice(4, 1, 3, deformable);
-    assert!(framed.frames().is_none() && same(&framed, &as_segments(&[(4, 3, deformable)])), "a segment");
-    let (late, _) = as_frames(&[1, 0]);
-    let mut want = Jacobian::with_rows(5);
-    for &(row, start, vals) in segments[4..].iter().chain(&segments[..4]) {
-        want.push_slice(row, start / 3, start, &vals);
-    }
-    assert!(late.frames().is_none() && same(&late, &want), "out of row order");
-    let ((mut sorted, _), mut want) = (as_frames(&[0, 1]), as_segments(&[]));
-    sorted.sort_by_row();
+    let clusters = [[0, 1], [2, 2], [0, 0]];
+    let push = |jac: &mut Jacobian, q: &mut [f64], k: usize| jac.push_frame(frames[k], clusters[k], &v, q);
+    let (mut mixed, mut q) = (Jacobian::with_rows(7), vec![0.0; 7]);
+    push(&mut mixed, &mut q, 0);
+    push(&mut mixed, &mut q, 1);
+    mixed.push_apply(4, 1, 3, deformable, &v, &mut q);
+    push(&mut mixed, &mut q, 2);
+    let (want, q_want) = as_segments(&[&segments[..], &last].concat());
+    assert_eq!((mixed.frames().len(), mixed.own_segments().len(), mixed.len()), (3, 1, 9));
+    let pieces: Vec<Piece> = mixed.pieces(0..3, 0..1).collect();
+    assert_eq!(pieces, [Piece::Frames(0..2), Piece::Segments(0..1), Piece::Frames(2..3)]);
+    assert!(same(&mixed, &want), "made from the frames");
+    assert!(q.iter().zip(&q_want).all(|(a, b)| a.to_bits() == b.to_bits()), "B v");
+    let mut unframed = mixed.clone();
+    unframed.unframe();
+    assert_eq!((unframed.frames().len(), unframed.own_segments().len()), (0, 9));
+    assert!(same(&unframed, &want), "unframed");
+    let (mut late, mut q) = (Jacobian::with_rows(7), vec![0.0; 7]);
+    push(&mut late, &mut q, 1);
+    push(&mut late, &mut q, 0);
+    assert_eq!((late.frames().len(), late.own_segments().len()), (1, 4));
+    let (want, _) = as_segments(&[&segments[4..6], &segments[..4]].concat());
+    assert!(same(&late, &want), "out of row order");
+    let (mut want, _) = as_segments(&[&segments[4..6], &segments[..4]].concat());
+    late.sort_by_row();
     want.sort_by_row();
-    assert!(sorted.frames().is_none() && same(&sorted, &want), "sorted");
-    let (_, map, flex, blocks) = rigid_disks(3);
-    let partial = Arc::new(Blocks::new(&flex, &map, &[true, true, false]));
-    let (framed, _) = as_frames(&[0, 1]);
-    let diagonal = |blocks: Arc<Blocks>, reads_frames: bool| {
-        let mut diagonal = vec![0.0; 5];
-        let part = BodyPart::new(&framed, blocks, &mut diagonal);
-        assert_eq!(part.framed, reads_frames);
-        diagonal
+    assert!(late.frames().is_empty() && same(&late, &want), "sorted");
+}
+
+/// The body form over a rigid disk, a deformable one (4 DOFs) and a rigid one in a row (DOFs
+/// at 0, 3 and 7: not `Blocks::dense`, so a frame's bodies are found by their clusters), with
+/// a wall contact on each rigid disk as a frame and the two disk-disk contacts as segments
+/// (wall, contact, contact, wall: runs of frames and segments in turn), against the same B
+/// pushed as segments only: the diagonal, W z, the response K̃⁻¹ Bᵀ z and the row bounds
+/// have the same bits (the same terms in the same order; the frames give each entry bit for
+/// bit), and W z equals the assembled W's to 1e-12 of its largest entry (another order).
+#[test]
+fn frames_read_beside_a_deformable_body() {
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let models = [BodyModel::Rigid, BodyModel::Deformable, BodyModel::Rigid];
+    let bodies: Vec<Body> = (0..3)
+        .map(|i| {
+            let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
+            let spec = BodySpec::at_rest(format!("b{i}"), shape, models[i], false);
+            Body::new(&spec, &material, Plane::Stress)
+        })
+        .collect();
+    let map = DofMap::new(&bodies, &[]);
+    let mut flex = Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let blocks = Arc::new(Blocks::new(&flex, &map, &[true; 3]));
+    let starts: Vec<usize> = (0..3).map(|b| map.range(b).start).collect();
+    assert!(!blocks.dense && starts == [0, 3, 7], "{starts:?}, dense {}", blocks.dense);
+    let v: Vec<f64> = (0..map.total()).map(|i| 0.1 * i as f64 - 0.3).collect();
+    let build = |framed: bool| {
+        let (mut jac, mut q) = (Jacobian::with_rows(8), vec![0.0; 8]);
+        // a wall contact on rigid disk b at rows r, r + 1, pushing on it along +x or -x
+        let wall = |jac: &mut Jacobian, q: &mut [f64], b: usize, r: usize, dir: f64| {
+            let (n, x) = (Vec2::new(dir, 0.1).normalize(), Vec2::new(b as f64 - 0.5 * dir, 0.0));
+            let [rn, rt] = [n, cw(n)].map(|d| bodies[b].rigid_row(x, d, 1.0));
+            let start = map.range(b).start;
+            match framed {
+                true => jac.push_frame(Frame::new(r, start, rn, rt), [b, b], &v, q),
+                false => {
+                    [rn, rt].iter().enumerate().for_each(|(k, e)| jac.push_apply(r + k, b, start, e, &v, q))
+                }
+            }
+        };
+        wall(&mut jac, &mut q, 0, 0, 1.0);
+        for (k, (a, b)) in [(0, 1), (1, 2)].into_iter().enumerate() {
+            let x = Vec2::new(a as f64 + 0.5, 0.0);
+            for (r, dir) in [(2 + 2 * k, Vec2::x()), (3 + 2 * k, cw(Vec2::x()))] {
+                for (body, sign) in [(a, 1.0), (b, -1.0)] {
+                    let row = bodies[body].shape_row(x, dir) * sign;
+                    let range = map.range(body);
+                    jac.push_apply(r, body, range.start, &row.as_slice()[..range.len()], &v, &mut q);
+                }
+            }
+        }
+        wall(&mut jac, &mut q, 2, 6, -1.0);
+        (jac, q)
     };
-    // the segments' diagonal (`add_diagonal`) over all three disks in body form
-    let mut serial = vec![0.0; 5];
-    let all = BodyPart::new(&as_segments(&[]), Arc::clone(&blocks), &mut [0.0; 5]);
-    all.add_diagonal(&framed, 0..framed.len(), &mut serial, 0);
+    let ((framed, q_framed), (plain, q)) = (build(true), build(false));
+    assert_eq!((framed.frames().len(), plain.frames().len(), framed.len(), plain.len()), (2, 0, 12, 12));
     let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&diagonal(blocks, true), &serial), "the frames' diagonal");
-    // disk 2 (the second frame's rows 2 and 3) outside the body form adds nothing there
-    assert!(bits(&diagonal(partial, false), &[serial[0], serial[1], 0.0, 0.0, 0.0]), "partial");
-    assert!(serial[..4].iter().all(|&d| d > 0.0));
+    assert!(bits(&q_framed, &q), "B v");
+    let (mut d_framed, mut d) = (vec![0.0; 8], vec![0.0; 8]);
+    let part_framed = BodyPart::new(&framed, Arc::clone(&blocks), &mut d_framed);
+    let part = BodyPart::new(&plain, Arc::clone(&blocks), &mut d);
+    assert!(bits(&d_framed, &d) && d.iter().all(|&x| x > 0.0), "diagonal");
+    let z: Vec<f64> = (0..8).map(|r| 0.3 - 0.1 * r as f64).collect();
+    let product = |part: &BodyPart, jac: &Jacobian| {
+        let mut out = vec![0.0; 8];
+        part.apply(jac, &z, &mut out, true);
+        out
+    };
+    let got = product(&part_framed, &framed);
+    assert!(bits(&got, &product(&part, &plain)), "W z");
+    let w = super::super::assemble(&plain, &flex, &map);
+    let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, x)| x * z[c]).sum()).collect();
+    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale), "W z against W");
+    let response = |part: &BodyPart, jac: &Jacobian| {
+        let mut out = vec![0.0; map.total()];
+        assert!(part.response(jac, &z, &mut out));
+        out
+    };
+    assert!(bits(&response(&part_framed, &framed), &response(&part, &plain)), "response");
+    let sc: Vec<f64> = (0..8).map(|r| 1.0 + 0.25 * r as f64).collect();
+    let bounds = |part: &BodyPart, jac: &Jacobian| {
+        let mut out = vec![0.0; 8];
+        part.row_bounds(jac, &sc, &mut out);
+        out
+    };
+    assert!(bits(&bounds(&part_framed, &framed), &bounds(&part, &plain)), "row bounds");
 }

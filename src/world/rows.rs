@@ -41,7 +41,8 @@ impl Linearization {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Site {
     centroid: Vec2,
-    /// First DOF of a rigid body; [`Site::NONE`] for a fixed body or one with more DOFs.
+    /// First DOF of a rigid body alone in its cluster; [`Site::NONE`] for a fixed body, one with
+    /// more DOFs, or one in a cluster of several.
     dof: u32,
     /// Cluster of a body with DOFs; [`Site::NONE`] for a fixed body.
     cluster: u32,
@@ -55,19 +56,21 @@ enum Role {
         dof: usize,
         cluster: usize,
     },
-    /// Strain or mesh DOFs: the contact is no frame.
+    /// Strain or mesh DOFs, or a body in a cluster of several: the contact is no frame.
     Other,
 }
 
 impl Site {
     const NONE: u32 = u32::MAX;
 
-    /// Body `b`'s site.
+    /// Body `b`'s site: a rigid body alone in its cluster gives frames (the body form reads
+    /// them), any other body segments (a rigid body joined to others by a connector is in a
+    /// cluster the assembly reads as segments).
     pub fn of(body: &Body, b: usize, dofs: &DofMap) -> Site {
-        let range = dofs.range(b);
-        let cluster = dofs.cluster_of(b).map_or(Site::NONE, |c| c as u32);
-        let dof = if range.len() == 3 { range.start as u32 } else { Site::NONE };
-        Site { centroid: body.centroid, dof, cluster }
+        let (range, cluster) = (dofs.range(b), dofs.cluster_of(b));
+        let alone = cluster.is_some_and(|c| dofs.cluster_range(c) == range);
+        let dof = if range.len() == 3 && alone { range.start as u32 } else { Site::NONE };
+        Site { centroid: body.centroid, dof, cluster: cluster.map_or(Site::NONE, |c| c as u32) }
     }
 
     fn role(&self) -> Role {
