@@ -1,17 +1,18 @@
 //! The body form's per-body blocks (math note §3.3): each body's DOF range, K̃⁻¹ and its square
-//! root, copied once from the flexibility's factors and kept across steps (`bodies.rs` applies
-//! W through them).
+//! root, copied once from the flexibility's factors and kept across steps, the blocks of the
+//! factors that change (a deformable body's) copied again in place (`bodies.rs` applies W
+//! through them).
 
 use crate::cluster::Flexibility;
 use crate::dofs::DofMap;
-use std::sync::Arc;
 
 /// A cluster's entry in `Blocks::compact` when it is not in body form.
 pub(super) const NONE: u32 = u32::MAX;
 
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
-/// from the factors once and kept across steps while the factors and DOF ranges stay the same
-/// ([`Blocks::current`]; math note §3.3). On a pile of rigid disks that is the whole run; the
+/// from the factors once and kept across steps while the DOF ranges stay the same
+/// ([`Blocks::same_layout`]), the blocks of a factor replaced since copied again
+/// ([`Blocks::update`]; math note §3.3). On a pile of rigid disks that is the whole run; the
 /// copy each step cost 30–60 µs of a 1.4 ms fixed work on the 1,000-disk pile.
 #[derive(Debug, Default)]
 pub(super) struct Blocks {
@@ -24,15 +25,15 @@ pub(super) struct Blocks {
     pub(super) rigid: Vec<u32>,
     /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
     /// (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from `kinv[square[b]..]` and
-    /// `root[square[b]..]`. `kinv` is the flexibility's own packed K̃_c⁻¹ of the closed-form
-    /// clusters ([`Flexibility::closed`]), shared, not copied; `root` is laid out at the same
-    /// offsets.
+    /// `root[square[b]..]`, both laid out as the flexibility's packed K̃_c⁻¹ of the closed-form
+    /// clusters ([`Flexibility::closed`]). (A copy: shared, the flexibility copied all of it
+    /// whenever one factor changed, since the blocks still held the old values.)
     pub(super) start: Vec<usize>,
     pub(super) n: Vec<usize>,
     pub(super) square: Vec<usize>,
     /// Per body, its first entry in packed n_c(n_c + 1)/2 lower triangles (`bodies + 1` offsets).
     pub(super) packed: Vec<usize>,
-    pub(super) kinv: Arc<Vec<f64>>,
+    pub(super) kinv: Vec<f64>,
     pub(super) root: Vec<f64>,
     /// Every body has 3 DOFs (a pile of rigid bodies) and its block follows the last one: K̃_c⁻¹
     /// of body b is `kinv[9 b..9 b + 9]`.
@@ -62,11 +63,11 @@ impl Blocks {
         blocks.square.reserve(count);
         blocks.packed.reserve(count);
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
-            if let ((kinv, Some(at)), Some(r)) = (flex.closed(c), flex.body_root(c)) {
+            if let ((kinv, Some(at)), Some(_)) = (flex.closed(c), flex.body_root(c)) {
                 let (range, b) = (map.cluster_range(c), blocks.n.len());
                 let n = range.len();
                 if blocks.root.is_empty() {
-                    (blocks.kinv, blocks.root) = (Arc::clone(kinv), vec![0.0; kinv.len()]);
+                    (blocks.kinv, blocks.root) = ((**kinv).clone(), vec![0.0; kinv.len()]);
                 }
                 blocks.compact[c] = b as u32;
                 if n == 3 {
@@ -75,11 +76,7 @@ impl Blocks {
                 blocks.start.push(range.start);
                 blocks.n.push(n);
                 blocks.square.push(at);
-                // the leading n × n block, column by column (a flat_map over entries cost 0.7 M
-                // instructions of a 21 M warm step on the 1,000-disk pile)
-                for (j, column) in blocks.root[at..at + n * n].chunks_exact_mut(n).enumerate() {
-                    column.copy_from_slice(&r.column(j).as_slice()[..n]);
-                }
+                blocks.copy_root(flex, c);
                 blocks.packed.push(blocks.packed[b] + n * (n + 1) / 2);
             }
         }
@@ -97,11 +94,22 @@ impl Blocks {
         self.n.len() == self.compact.len()
     }
 
-    /// Whether these blocks are what [`Blocks::new`] would make now: the same factors (by
-    /// stamp), the same clusters in body form, at the same DOF ranges.
-    pub fn current(&self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> bool {
+    /// Copies R_c of cluster `c` (in body form) from the flexibility: the leading n × n block,
+    /// column by column (a flat_map over entries cost 0.7 M instructions of a 21 M warm step on
+    /// the 1,000-disk pile).
+    fn copy_root(&mut self, flex: &Flexibility, c: usize) -> Option<()> {
+        let (b, r) = (self.compact[c] as usize, flex.body_root(c)?);
+        let (n, at) = (self.n[b], self.square[b]);
+        for (j, column) in self.root[at..at + n * n].chunks_exact_mut(n).enumerate() {
+            column.copy_from_slice(&r.column(j).as_slice()[..n]);
+        }
+        Some(())
+    }
+
+    /// Whether these blocks are laid out as [`Blocks::new`] would lay them out now: the same
+    /// clusters in body form, at the same DOF ranges (their factors may have changed).
+    pub fn same_layout(&self, map: &DofMap, body: &[bool]) -> bool {
         self.dofs == map.total()
-            && self.stamps == flex.stamps()
             && self.compact.len() == body.len()
             && body.iter().zip(&self.compact).enumerate().all(|(c, (&on, &b))| match b {
                 NONE => !on,
@@ -110,5 +118,38 @@ impl Blocks {
                         == (self.start[b as usize]..self.start[b as usize] + self.n[b as usize])
                 }
             })
+    }
+
+    /// Copies K̃_c⁻¹ and R_c again for each body-form cluster c whose factor was replaced since
+    /// (by stamp), in place, for blocks of the same layout ([`Self::same_layout`]): a
+    /// deformable body's factor changes every step, and new blocks copied every body's. `false`
+    /// (the blocks then half updated: make new ones) when a block moved in the flexibility's
+    /// packing.
+    pub fn update(&mut self, flex: &Flexibility) -> bool {
+        if flex.stamps().len() != self.stamps.len() {
+            return false;
+        }
+        for c in 0..self.stamps.len() {
+            let stamp = flex.stamps()[c];
+            if stamp == self.stamps[c] {
+                continue;
+            }
+            self.stamps[c] = stamp;
+            let b = self.compact[c];
+            if b == NONE {
+                continue;
+            }
+            let (n, at) = (self.n[b as usize], self.square[b as usize]);
+            match flex.closed(c) {
+                (kinv, Some(now)) if now == at && kinv.len() == self.kinv.len() => {
+                    self.kinv[at..at + n * n].copy_from_slice(&kinv[at..at + n * n])
+                }
+                _ => return false,
+            }
+            if self.copy_root(flex, c).is_none() {
+                return false;
+            }
+        }
+        true
     }
 }

@@ -77,13 +77,21 @@ pub struct Scratch {
 }
 
 impl Scratch {
-    /// The body form's blocks for the clusters with `body[c]`: the kept ones while they are
-    /// current ([`blocks::Blocks::current`]), else new ones, kept for the next call.
+    /// The body form's blocks for the clusters with `body[c]`: the kept ones while their
+    /// layout holds ([`blocks::Blocks::same_layout`]), as they are while no factor changed,
+    /// else brought up to date in place ([`blocks::Blocks::update`], when no operator of an
+    /// earlier step still holds them); else new ones, kept for the next call.
     fn blocks(&mut self, flex: &Flexibility, map: &DofMap, body: &[bool]) -> Arc<blocks::Blocks> {
-        match &self.blocks {
-            Some(b) if b.current(flex, map, body) => Arc::clone(b),
-            _ => Arc::clone(self.blocks.insert(Arc::new(blocks::Blocks::new(flex, map, body)))),
+        let current = |b: &mut Arc<blocks::Blocks>| {
+            b.same_layout(map, body)
+                && (b.stamps == flex.stamps() || Arc::get_mut(b).is_some_and(|b| b.update(flex)))
+        };
+        if let Some(kept) = self.blocks.as_mut()
+            && current(kept)
+        {
+            return Arc::clone(kept);
         }
+        Arc::clone(self.blocks.insert(Arc::new(blocks::Blocks::new(flex, map, body))))
     }
 }
 

@@ -366,3 +366,43 @@ fn frames_read_beside_a_deformable_body() {
     };
     assert!(bits(&bounds(&part_framed, &framed), &bounds(&part, &plain)), "row bounds");
 }
+
+/// The body form's blocks brought up to date in place (`Blocks::update`): on a rigid disk, a
+/// deformable one and a rigid one, the deformable disk strained (its K̃ follows its geometry,
+/// so the flexibility's next refresh replaces its factor and only its) gives blocks equal bit
+/// for bit to new ones made from the refreshed flexibility (`Blocks::new`): K̃⁻¹ and R of
+/// every body, and the stamps. The kept blocks' layout holds (`same_layout`), and the
+/// update copies the deformable disk's block, not the others' (their K̃⁻¹ unchanged).
+#[test]
+fn blocks_updated_in_place_equal_new_ones() {
+    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+    let models = [BodyModel::Rigid, BodyModel::Deformable, BodyModel::Rigid];
+    let mut bodies: Vec<Body> = (0..3)
+        .map(|i| {
+            let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
+            Body::new(&BodySpec::at_rest(format!("b{i}"), shape, models[i], false), &material, Plane::Stress)
+        })
+        .collect();
+    let map = DofMap::new(&bodies, &[]);
+    let mut flex = Flexibility::new(false);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let mut kept = Blocks::new(&flex, &map, &[true; 3]);
+    let before = kept.kinv.clone();
+    let mut strain = crate::body::Dofs::zeros();
+    strain[3] = 0.01;
+    bodies[1].apply_increment(&strain);
+    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    assert!(kept.same_layout(&map, &[true; 3]) && kept.stamps != flex.stamps());
+    assert!(kept.update(&flex));
+    let new = Blocks::new(&flex, &map, &[true; 3]);
+    let bits =
+        |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
+    assert!(bits(&kept.kinv, &new.kinv) && bits(&kept.root, &new.root) && kept.stamps == new.stamps);
+    let changed: Vec<usize> = (0..3)
+        .filter(|&b| {
+            let (at, n) = (kept.square[b], kept.n[b]);
+            !bits(&before[at..at + n * n], &kept.kinv[at..at + n * n])
+        })
+        .collect();
+    assert_eq!(changed, [1]);
+}
