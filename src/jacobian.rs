@@ -278,7 +278,7 @@ impl Jacobian {
             return;
         }
         let old = std::mem::replace(self, Jacobian::with_rows(self.rows));
-        for piece in old.pieces(0..old.frames.len(), 0..old.segments.len()) {
+        for piece in old.pieces() {
             match piece {
                 Piece::Frames(r) => {
                     for (f, c) in old.frames[r.clone()].iter().zip(&old.clusters[r]) {
@@ -292,9 +292,18 @@ impl Jacobian {
         }
     }
 
-    /// B in push order within frames `frames` and segments `segs` (ranges of
-    /// [`Self::frames`] and [`Self::own_segments`]): runs of frames and of segments in turn.
-    pub fn pieces(&self, frames: Range<usize>, segs: Range<usize>) -> impl Iterator<Item = Piece> + '_ {
+    /// B in push order: runs of frames and of segments in turn.
+    pub fn pieces(&self) -> impl Iterator<Item = Piece> + '_ {
+        self.pieces_within(0..self.frames.len(), 0..self.segments.len())
+    }
+
+    /// [`Self::pieces`] within frames `frames` and segments `segs` (ranges of [`Self::frames`]
+    /// and [`Self::own_segments`]).
+    pub fn pieces_within(
+        &self,
+        frames: Range<usize>,
+        segs: Range<usize>,
+    ) -> impl Iterator<Item = Piece> + '_ {
         let ends = [self.frames.len() as u32, self.segments.len() as u32];
         let bounds = std::iter::once([0, 0]).chain(self.switches.iter().copied()).chain([ends]);
         let mut last = [0, 0];
@@ -313,7 +322,7 @@ impl Jacobian {
     /// How many segments were pushed before frame `frame` (as segments, not frames').
     pub fn segments_before(&self, frame: usize) -> usize {
         let mut at = 0;
-        for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+        for piece in self.pieces() {
             match piece {
                 Piece::Frames(r) if r.contains(&frame) => return at,
                 Piece::Segments(r) => at = r.end,
@@ -347,9 +356,10 @@ impl Jacobian {
         self.len == 0
     }
 
-    /// Every segment in push order, the frames' included: B's own, or made once (with the
-    /// frames' entries past `vals`, so that a segment's `val` finds its entries either way).
-    fn all(&self) -> &[Segment] {
+    /// Every segment in push order, the frames' included: B's own, or made once from the frames
+    /// on the first call (their entries past `vals`, so that a segment's `val` finds its
+    /// entries either way).
+    pub fn segments(&self) -> &[Segment] {
         if self.frames.is_empty() {
             return &self.segments;
         }
@@ -357,7 +367,7 @@ impl Jacobian {
             .made
             .get_or_init(|| {
                 let (own, mut segments, mut vals) = (self.vals.len() as u32, Vec::new(), Vec::new());
-                for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+                for piece in self.pieces() {
                     match piece {
                         Piece::Segments(r) => segments.extend_from_slice(&self.segments[r]),
                         Piece::Frames(r) => {
@@ -376,12 +386,6 @@ impl Jacobian {
                 (segments, vals)
             })
             .0
-    }
-
-    /// Every segment in push order, the frames' included (made from them on the first call
-    /// when B has frames).
-    pub fn segments(&self) -> &[Segment] {
-        self.all()
     }
 
     /// The entries of B from `s.val` on: pushed as segments, or made from a frame.
@@ -459,7 +463,7 @@ impl Jacobian {
             }
             n => out[start..start + n].iter_mut().zip(vals).for_each(|(x, v)| *x += v * zr),
         };
-        for piece in self.pieces(0..self.frames.len(), 0..self.segments.len()) {
+        for piece in self.pieces() {
             match piece {
                 Piece::Segments(r) => {
                     for s in self.segments[r].iter().filter(|s| keep(s.row())) {

@@ -205,7 +205,7 @@ impl BodyPart {
     /// Half `half` (0 or 1) of B over the halves of `split`; without a split, half 0 is all of
     /// B and half 1 nothing.
     fn half(&self, jac: &Jacobian, half: usize) -> Half {
-        let all = Half { frames: 0..jac.frames().len(), segs: 0..jac.own_segments().len() };
+        let all = Half::all(jac);
         match (self.split, half) {
             (None, 0) => all,
             (None, _) => Half { frames: 0..0, segs: 0..0 },
@@ -390,7 +390,7 @@ impl BodyPart {
         let frames = |r: Range<usize>| jac.frames()[r.clone()].iter().zip(&jac.frame_clusters()[r]);
         let own = jac.own_segments();
         // in push order, as the sums of M over the segments made from the frames
-        for piece in jac.pieces(0..jac.frames().len(), 0..own.len()) {
+        for piece in jac.pieces() {
             match piece {
                 Piece::Frames(r) => {
                     for (f, c) in frames(r) {

@@ -27,7 +27,7 @@ impl Half {
     /// u += Bᵀ z over the part's frames and its segments that `keep` selects, in push order (u
     /// indexed by global DOF; the sums of the segments made from the frames).
     pub fn scatter(&self, jac: &Jacobian, keep: impl Fn(&Segment) -> bool, z: &[f64], u: &mut [f64]) {
-        for piece in jac.pieces(self.frames.clone(), self.segs.clone()) {
+        for piece in jac.pieces_within(self.frames.clone(), self.segs.clone()) {
             match piece {
                 Piece::Frames(r) => scatter_frames(&jac.frames()[r], z, u),
                 Piece::Segments(r) => scatter(jac, jac.own_segments()[r].iter().filter(|s| keep(s)), z, u),
@@ -45,7 +45,7 @@ impl Half {
         out: &mut [f64],
         offset: usize,
     ) {
-        for piece in jac.pieces(self.frames.clone(), self.segs.clone()) {
+        for piece in jac.pieces_within(self.frames.clone(), self.segs.clone()) {
             match piece {
                 Piece::Frames(r) => gather_frames(&jac.frames()[r], v, out, offset),
                 // (not `gather` without an offset: its offset cost 48 k instructions a warm step

@@ -259,7 +259,7 @@ fn frames_and_segments_side_by_side() {
     push(&mut mixed, &mut q, 2);
     let (want, q_want) = as_segments(&[&segments[..], &last].concat());
     assert_eq!((mixed.frames().len(), mixed.own_segments().len(), mixed.len()), (3, 1, 9));
-    let pieces: Vec<Piece> = mixed.pieces(0..3, 0..1).collect();
+    let pieces: Vec<Piece> = mixed.pieces().collect();
     assert_eq!(pieces, [Piece::Frames(0..2), Piece::Segments(0..1), Piece::Frames(2..3)]);
     assert!(same(&mixed, &want), "made from the frames");
     assert!(q.iter().zip(&q_want).all(|(a, b)| a.to_bits() == b.to_bits()), "B v");
