@@ -301,7 +301,9 @@ impl Flexibility {
 
     /// Whether cluster `c` goes through the sparse factorization.
     pub fn is_sparse(&self, c: usize) -> bool {
-        matches!(self.factors[c].as_ref(), Factor::Sparse(_))
+        // (from the packing's offsets, one load: through the factor it was a pointer chase per
+        // cluster, 0.1 ms of a step's assembly on the 10,000-disk pile with 100 bolts)
+        self.closed_at[c] == NONE
     }
 }
 

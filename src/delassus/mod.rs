@@ -55,6 +55,8 @@ pub struct Scratch {
     cluster_place: Vec<usize>,
     /// Per sparse cluster, the sorted cluster-local DOFs that rows touch (S); empty otherwise.
     sets: Vec<Vec<usize>>,
+    /// The clusters whose sets are not empty.
+    touched: Vec<usize>,
     /// Per cluster, the length of its columns: |S| for a sparse cluster (columns are kept at S
     /// only), its DOF count otherwise.
     col_len: Vec<usize>,
@@ -348,15 +350,26 @@ impl Scratch {
     /// place in them. A segment's DOFs are consecutive in S too (S holds all of them, sorted).
     fn layout(&mut self, jac: &Jacobian, flex: &Flexibility, map: &DofMap) {
         let clusters = map.clusters();
+        // (the sets of the last call's touched clusters cleared, and this call's sorted: not
+        // every cluster's, 10,000 of them on a pile with a few bolted clusters)
         self.sets.resize_with(clusters, Vec::new);
-        self.sets.iter_mut().for_each(Vec::clear);
+        for &c in &self.touched {
+            if let Some(set) = self.sets.get_mut(c) {
+                set.clear();
+            }
+        }
+        self.touched.clear();
         let local = |s: &Segment| s.start() - map.cluster_range(s.cluster()).start;
         for s in jac.own_segments().iter().filter(|s| flex.is_sparse(s.cluster())) {
-            self.sets[s.cluster()].extend(local(s)..local(s) + s.width());
+            let set = &mut self.sets[s.cluster()];
+            if set.is_empty() {
+                self.touched.push(s.cluster());
+            }
+            set.extend(local(s)..local(s) + s.width());
         }
-        for set in &mut self.sets {
-            set.sort_unstable();
-            set.dedup();
+        for &c in &self.touched {
+            self.sets[c].sort_unstable();
+            self.sets[c].dedup();
         }
         self.col_len.clear();
         self.col_len.extend(
@@ -509,8 +522,12 @@ impl Scratch {
             // places ascend by row, so a k-way merge (k = the row's places, ascending by
             // cluster) gives the columns in order, and a column reached through two clusters
             // is summed in cluster order. No sort, no allocation.
-            self.cursors.clear();
             let places = self.row_place_start[r]..self.row_place_start[r + 1];
+            if places.is_empty() {
+                indptr.push(indices.len()); // a row on body-form or factored clusters only
+                continue;
+            }
+            self.cursors.clear();
             for &p in &self.row_places[places] {
                 let c = self.place_cluster[p];
                 self.cursors.push((p, self.cluster_place[c], self.cluster_place[c + 1]));
