@@ -3,7 +3,8 @@
 //! semidefinite (zᵀ W z = |K̃^{-1/2} Bᵀ z|² >= 0, §3.2). Random scenes of rigid disks, rings and
 //! polygons with random contacts between random pairs (including fixed bodies, which carry no
 //! DOF, and deformable bodies with 4 and 6 DOF), and random couplings of random pairs into
-//! clusters (sparse Cholesky path): a zero-length translational spring plus a bolt, spring or
+//! clusters (sparse Cholesky path; a cluster of at most 6 DOFs, such as two rigid bodies, by
+//! its closed form, math note §6): a zero-length translational spring plus a bolt, spring or
 //! beam of the engine (math note §6); the same scenes with every cluster, single bodies
 //! included, forced through the sparse path; and the operator form (W z = B K̃⁻¹ Bᵀ z by
 //! solves, with its diagonal) against the same dense product.
