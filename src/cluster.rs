@@ -393,7 +393,7 @@ fn body_flexibility<'a>(
             }
         }
     }
-    closed_form(k.view((0, 0), (n, n)).clone_owned())
+    closed_form(k, n)
 }
 
 /// [`body_flexibility`] of a cluster of a few bodies with at most `MAX_DOF` DOFs between them:
@@ -407,30 +407,44 @@ fn small_flexibility(
     damping: f64,
 ) -> Option<(BodyMatrix, BodyMatrix)> {
     let n = map.cluster_range(c).len();
-    let mut k = nalgebra::DMatrix::zeros(n, n);
+    let mut k = BodyMatrix::zeros();
     for (i, j, v) in cluster_triplets(map, c, bodies, couplings, dt, damping) {
         k[(i, j)] += v;
         if i != j {
             k[(j, i)] += v;
         }
     }
-    closed_form(k)
+    closed_form(k, n)
 }
 
-/// K̃⁻¹ and an upper triangular square root R (R Rᵀ = K̃⁻¹) of the symmetric n × n matrix `k`,
-/// padded to `MAX_DOF` × `MAX_DOF`; `None` unless k is positive definite with finite results.
-fn closed_form(k: nalgebra::DMatrix<f64>) -> Option<(BodyMatrix, BodyMatrix)> {
-    let n = k.nrows();
-    let chol = k.cholesky()?;
-    let inv = chol.inverse();
-    let root = chol.l().solve_lower_triangular(&nalgebra::DMatrix::identity(n, n))?.transpose();
-    if !inv.iter().chain(root.iter()).all(|x| x.is_finite()) {
-        return None;
+/// K̃⁻¹ and an upper triangular square root R (R Rᵀ = K̃⁻¹) of the symmetric leading n × n block
+/// of `k`, padded with zeros to `MAX_DOF` × `MAX_DOF`; `None` unless that block is positive
+/// definite with finite results. On the fixed size, its unused diagonal set to one: no heap
+/// allocation (n × n `DMatrix` work cost 10 k instructions per call, refreshed every step for a
+/// deformable body or a bolted pair). The leading block's factor, inverse and root are the n × n
+/// ones: the padding adds only exact zeros to their sums.
+fn closed_form(mut k: BodyMatrix, n: usize) -> Option<(BodyMatrix, BodyMatrix)> {
+    for i in 0..MAX_DOF {
+        for j in 0..MAX_DOF {
+            if i >= n || j >= n {
+                k[(i, j)] = if i == j { 1.0 } else { 0.0 };
+            }
+        }
     }
-    let (mut inverse, mut padded) = (BodyMatrix::zeros(), BodyMatrix::zeros());
-    inverse.view_mut((0, 0), (n, n)).copy_from(&inv);
-    padded.view_mut((0, 0), (n, n)).copy_from(&root);
-    Some((inverse, padded))
+    let chol = k.cholesky()?;
+    let mut inverse = chol.inverse();
+    let mut root = chol.l().solve_lower_triangular(&BodyMatrix::identity())?.transpose();
+    for m in [&mut inverse, &mut root] {
+        for i in 0..MAX_DOF {
+            for j in 0..MAX_DOF {
+                if i >= n || j >= n {
+                    m[(i, j)] = 0.0;
+                }
+            }
+        }
+    }
+    let leading = |m: &BodyMatrix| m.view((0, 0), (n, n)).iter().all(|x| x.is_finite());
+    (leading(&inverse) && leading(&root)).then_some((inverse, root))
 }
 
 impl Formed {
