@@ -239,3 +239,39 @@ fn frame(c: &Brief, l: &Linearization, sites: &[Site]) -> Option<(Frame, [usize;
     }
     frame
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+    use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
+
+    /// Which bodies give contact frames (`Site::role`): of four disks, a rigid one alone in its
+    /// cluster gives frames (its first DOF and cluster); a deformable one (4 DOFs) and two rigid
+    /// ones joined into one cluster (by a connector between bodies 2 and 3) give segments; a fixed
+    /// one has no column. A rigid body in a cluster of several is read by the assembly, not the
+    /// body form, so its contacts must not be frames (math note §3.3, "Frames beside segments").
+    #[test]
+    fn frames_only_for_rigid_bodies_alone_in_their_clusters() {
+        let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
+        let (rigid, deformable) = (BodyModel::Rigid, BodyModel::Deformable);
+        let kinds = [(rigid, false), (deformable, false), (rigid, false), (rigid, false), (rigid, true)];
+        let bodies: Vec<Body> = kinds
+            .iter()
+            .enumerate()
+            .map(|(i, &(model, fixed))| {
+                let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
+                Body::new(&BodySpec::at_rest(format!("b{i}"), shape, model, fixed), &material, Plane::Stress)
+            })
+            .collect();
+        let map = DofMap::new(&bodies, &[(2, 3)]);
+        let roles: Vec<String> = (0..5)
+            .map(|b| match Site::of(&bodies[b], b, &map).role() {
+                Role::Fixed => "fixed".to_string(),
+                Role::Other => "segments".to_string(),
+                Role::Rigid { dof, cluster } => format!("frame at {dof} in {cluster}"),
+            })
+            .collect();
+        assert_eq!(roles, ["frame at 0 in 0", "segments", "segments", "segments", "fixed"]);
+    }
+}
