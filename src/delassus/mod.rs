@@ -15,9 +15,9 @@
 //! the diagonal `W_rr` is formed (one solve per row). The switch is by memory: a product with a
 //! stored block costs far less than a solve.
 //!
-//! Single bodies are in *body form* when the caller asks (every method but NSGS, whose sweeps
-//! read W's rows): applied through their closed-form K̃_c⁻¹, never assembled (`bodies.rs`, math
-//! note §3.3).
+//! Clusters with a closed-form K̃_c⁻¹ (single bodies, and clusters of at most 6 DOFs: math note
+//! §6) are in *body form* when the caller asks (every method but NSGS, whose sweeps read W's
+//! rows): applied through their K̃_c⁻¹, never assembled (`bodies.rs`, math note §3.3).
 
 use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;
@@ -135,8 +135,9 @@ impl ContactOperator {
         Self::with_scratch(jac, flex, map, limit, false, &mut Scratch::default())
     }
 
-    /// [`Self::new`] with the work storage of earlier steps; with `bodies`, every single body
-    /// with a closed-form K̃⁻¹ is in body form (`bodies.rs`, math note §3.3) instead of explicit.
+    /// [`Self::new`] with the work storage of earlier steps; with `bodies`, every cluster with a
+    /// closed-form K̃⁻¹ (a single body, or at most 6 DOFs) is in body form (`bodies.rs`, math
+    /// note §3.3) instead of explicit.
     pub fn with_scratch(
         mut jac: Jacobian,
         flex: &Flexibility,
