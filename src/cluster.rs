@@ -161,19 +161,24 @@ impl Flexibility {
                 .collect();
         }
         self.formed.resize(map.clusters(), None);
-        // the blocks coupling a body to itself (a connector to a fixed body), by body and then in
-        // coupling order: a single body's are found by two binary searches, not by a scan of
-        // every coupling per body (O(bodies × couplings) on the first refresh)
-        let mut own: Vec<(usize, usize)> =
-            couplings.iter().enumerate().filter(|(_, cp)| cp.a == cp.b).map(|(i, cp)| (cp.a, i)).collect();
-        own.sort_unstable();
+        // the coupling blocks of each cluster, by cluster and then in coupling order: a cluster's
+        // are found by two binary searches, not by a scan of every coupling per cluster
+        // (O(clusters × couplings) on the first refresh, and every step over the coupled ones)
+        let mut by_cluster: Vec<(usize, usize)> =
+            couplings.iter().enumerate().filter_map(|(i, cp)| map.cluster_of(cp.a).map(|c| (c, i))).collect();
+        by_cluster.sort_unstable();
+        let inside = |c: usize| {
+            let at =
+                by_cluster.partition_point(|&(x, _)| x < c)..by_cluster.partition_point(|&(x, _)| x <= c);
+            by_cluster[at].iter().map(|&(_, i)| &couplings[i])
+        };
         // after the first refresh, the clusters whose K̃ changes: those deforming and those a
         // coupling acts in (connector blocks follow the anchors), each once, in cluster order
         let changing: Vec<usize> = if first {
             (0..map.clusters()).collect()
         } else {
-            let coupled = couplings.iter().filter_map(|cp| map.cluster_of(cp.a));
-            let mut cs: Vec<usize> = self.deforming.iter().copied().chain(coupled).collect();
+            let mut cs: Vec<usize> =
+                self.deforming.iter().copied().chain(by_cluster.iter().map(|&(c, _)| c)).collect();
             cs.sort_unstable();
             cs.dedup();
             cs
@@ -181,13 +186,11 @@ impl Flexibility {
         for c in changing {
             let members = map.members(c);
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
-            let single = members.len() == 1 && bodies[members[0]].mesh.is_none();
-            // bodies joined by connectors with at most MAX_DOF DOFs between them (two rigid
-            // disks joined by a bolt): a closed form as for a single body (math note §6)
-            let small = members.len() > 1
-                && map.cluster_range(c).len() <= MAX_DOF
-                && members.iter().all(|&b| bodies[b].mesh.is_none());
-            let sparse = !(single || small) || self.sparse_only;
+            // a single body, or bodies joined by connectors with at most MAX_DOF DOFs between
+            // them (two rigid disks joined by a bolt), without meshes: closed form (math note §6)
+            let closed =
+                map.cluster_range(c).len() <= MAX_DOF && members.iter().all(|&b| bodies[b].mesh.is_none());
+            let sparse = !closed || self.sparse_only;
             if sparse && !first && self.keeps(c, members, bodies) {
                 continue; // math note §9.3: the kept factor (and its cached columns) serves on
             }
@@ -195,21 +198,11 @@ impl Flexibility {
                 self.formed[c] = Some(members.iter().map(|&b| Formed::of(&bodies[b])).collect());
             }
             let factor = if !sparse {
-                // a single body, possibly tied to fixed bodies: closed form with its own blocks;
-                // a small cluster: closed form of its assembled K̃
-                let (inverse, root) = match single {
-                    true => {
-                        let b = members[0];
-                        let mine =
-                            &own[own.partition_point(|&(x, _)| x < b)..own.partition_point(|&(x, _)| x <= b)];
-                        body_flexibility(&bodies[b], mine.iter().map(|&(_, i)| &couplings[i]), dt, damping)
-                    }
-                    false => small_flexibility(map, c, bodies, couplings, dt, damping),
-                }
-                .ok_or_else(failed)?;
+                let k = dense_step_matrix(map, c, bodies, inside(c), dt, damping);
+                let (inverse, root) = closed_form(k, map.cluster_range(c).len()).ok_or_else(failed)?;
                 Factor::Body { inverse, root }
             } else {
-                let triplets = cluster_triplets(map, c, bodies, couplings, dt, damping);
+                let triplets = cluster_triplets(map, c, bodies, inside(c), dt, damping);
                 // reuse the symbolic analysis of the last factor of this cluster
                 let mut sparse = match self.factors.get(c).filter(|_| !first).map(|f| f.as_ref()) {
                     Some(Factor::Sparse(s)) => s.renewed(),
@@ -374,47 +367,32 @@ pub(crate) fn block_times<const N: usize>(k: &[f64], stride: usize, u: &[f64]) -
     o
 }
 
-/// K⁻¹ of one body, K = K_e + (2/dt²) M (math note eq. 1.2) plus the body's own coupling
-/// blocks (connectors to fixed bodies), and its square root R = L⁻ᵀ (L K's Cholesky factor, so
-/// R Rᵀ = (L Lᵀ)⁻¹ = K⁻¹), both padded to 6×6; `None` when K is not positive definite (a body
-/// without mass).
-fn body_flexibility<'a>(
-    body: &Body,
-    own: impl Iterator<Item = &'a CouplingBlock>,
-    dt: f64,
-    damping: f64,
-) -> Option<(BodyMatrix, BodyMatrix)> {
-    let n = body.ndof();
-    let mut k = body.step_matrix(dt, damping);
-    for cp in own {
-        for (i, &ri) in cp.ra.iter().enumerate() {
-            for (j, &rj) in cp.rb.iter().enumerate() {
-                k[(ri, rj)] += cp.block[(i, j)];
-            }
-        }
-    }
-    closed_form(k, n)
-}
-
-/// [`body_flexibility`] of a cluster of a few bodies with at most `MAX_DOF` DOFs between them:
-/// its K̃ mirrored from [`cluster_triplets`] (duplicates summed).
-fn small_flexibility(
+/// K̃ of a cluster of at most `MAX_DOF` DOFs without meshes, dense over its DOFs: each body's
+/// K = K_e + (2/dt²) M (math note eq. 1.2) on its own DOFs, plus the cluster's coupling blocks
+/// `inside` in coupling order (for a single body, its connectors to fixed bodies).
+fn dense_step_matrix<'a>(
     map: &DofMap,
     c: usize,
     bodies: &[Body],
-    couplings: &[CouplingBlock],
+    inside: impl Iterator<Item = &'a CouplingBlock>,
     dt: f64,
     damping: f64,
-) -> Option<(BodyMatrix, BodyMatrix)> {
-    let n = map.cluster_range(c).len();
+) -> BodyMatrix {
+    let base = map.cluster_range(c).start;
     let mut k = BodyMatrix::zeros();
-    for (i, j, v) in cluster_triplets(map, c, bodies, couplings, dt, damping) {
-        k[(i, j)] += v;
-        if i != j {
-            k[(j, i)] += v;
+    for &b in map.members(c) {
+        let (kb, at, n) = (bodies[b].step_matrix(dt, damping), map.range(b).start - base, bodies[b].ndof());
+        k.view_mut((at, at), (n, n)).copy_from(&kb.view((0, 0), (n, n)));
+    }
+    for cp in inside {
+        let (a0, b0) = (map.range(cp.a).start - base, map.range(cp.b).start - base);
+        for (i, &ri) in cp.ra.iter().enumerate() {
+            for (j, &rj) in cp.rb.iter().enumerate() {
+                k[(a0 + ri, b0 + rj)] += cp.block[(i, j)];
+            }
         }
     }
-    closed_form(k, n)
+    k
 }
 
 /// K̃⁻¹ and an upper triangular square root R (R Rᵀ = K̃⁻¹) of the symmetric leading n × n block
@@ -424,25 +402,19 @@ fn small_flexibility(
 /// deformable body or a bolted pair). The leading block's factor, inverse and root are the n × n
 /// ones: the padding adds only exact zeros to their sums.
 fn closed_form(mut k: BodyMatrix, n: usize) -> Option<(BodyMatrix, BodyMatrix)> {
-    for i in 0..MAX_DOF {
-        for j in 0..MAX_DOF {
-            if i >= n || j >= n {
-                k[(i, j)] = if i == j { 1.0 } else { 0.0 };
-            }
+    let pad = |m: &mut BodyMatrix, diagonal: f64| {
+        for i in n..MAX_DOF {
+            m.row_mut(i).fill(0.0);
+            m.column_mut(i).fill(0.0);
+            m[(i, i)] = diagonal;
         }
-    }
+    };
+    pad(&mut k, 1.0);
     let chol = k.cholesky()?;
     let mut inverse = chol.inverse();
     let mut root = chol.l().solve_lower_triangular(&BodyMatrix::identity())?.transpose();
-    for m in [&mut inverse, &mut root] {
-        for i in 0..MAX_DOF {
-            for j in 0..MAX_DOF {
-                if i >= n || j >= n {
-                    m[(i, j)] = 0.0;
-                }
-            }
-        }
-    }
+    pad(&mut inverse, 0.0);
+    pad(&mut root, 0.0);
     let leading = |m: &BodyMatrix| m.view((0, 0), (n, n)).iter().all(|x| x.is_finite());
     (leading(&inverse) && leading(&root)).then_some((inverse, root))
 }
@@ -477,12 +449,12 @@ impl Formed {
 }
 
 /// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃: the bodies' blocks
-/// plus the coupling blocks between its bodies.
-fn cluster_triplets(
+/// plus the coupling blocks between its bodies (`inside`, the cluster's).
+fn cluster_triplets<'a>(
     map: &DofMap,
     c: usize,
     bodies: &[Body],
-    couplings: &[CouplingBlock],
+    inside: impl Iterator<Item = &'a CouplingBlock>,
     dt: f64,
     damping: f64,
 ) -> Vec<(usize, usize, f64)> {
@@ -510,7 +482,7 @@ fn cluster_triplets(
             }
         }
     }
-    for cp in couplings.iter().filter(|cp| map.cluster_of(cp.a) == Some(c)) {
+    for cp in inside {
         let (a0, b0) = (map.range(cp.a).start, map.range(cp.b).start);
         for (i, &ri) in cp.ra.iter().enumerate() {
             for (j, &rj) in cp.rb.iter().enumerate() {
@@ -529,7 +501,7 @@ mod tests {
     use crate::model::{BodyModel, BodySpec, ConnectorKind, ConnectorSpec, Material, Plane, Shape};
 
     /// Two rigid disks (radius 0.5, density 2) joined by a bolt (E = 1e8 Pa, A = 0.01 m²), one
-    /// cluster of 6 DOFs, get a closed form (`small_flexibility`), and its K̃⁻¹ applied to each
+    /// cluster of 6 DOFs, get a closed form (`dense_step_matrix`, `closed_form`), and its K̃⁻¹ applied to each
     /// unit vector equals the sparse factor's solve of the same K̃ (`Flexibility::new(true)`:
     /// every cluster sparse) to 1e-12 of the largest entry. Both factor the same symmetric
     /// positive definite matrix by Cholesky; its condition number here is about 1e3 (mass terms
