@@ -279,18 +279,21 @@ fn frames_and_segments_side_by_side() {
     assert!(late.frames().is_empty() && same(&late, &want), "sorted");
 }
 
-/// The body form over a rigid disk, a deformable one (4 DOFs) and a rigid one in a row (DOFs
-/// at 0, 3 and 7: not `Blocks::dense`, so a frame's bodies are found by their clusters), with
-/// a wall contact on each rigid disk as a frame and the two disk-disk contacts as segments
-/// (wall, contact, contact, wall: runs of frames and segments in turn), against the same B
-/// pushed as segments only: the diagonal, W z, the response K̃⁻¹ Bᵀ z and the row bounds
+/// The body form over a rigid disk, three deformable ones (4 DOFs each) and a rigid one in a
+/// row (DOFs at 0, 3, 7, 11 and 15: not `Blocks::dense`, so a frame's bodies are found by their
+/// clusters; the last rigid disk is body 4, where its first DOF over 3, the dense rule, would
+/// name body 5), with a wall contact on each rigid disk as a frame and the four disk-disk
+/// contacts as segments (wall, contacts, wall: runs of frames and segments in turn), against the
+/// same B pushed as segments only: the diagonal, W z, the response K̃⁻¹ Bᵀ z and the row bounds
 /// have the same bits (the same terms in the same order; the frames give each entry bit for
 /// bit), and W z equals the assembled W's to 1e-12 of its largest entry (another order).
 #[test]
 fn frames_read_beside_a_deformable_body() {
     let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-    let models = [BodyModel::Rigid, BodyModel::Deformable, BodyModel::Rigid];
-    let bodies: Vec<Body> = (0..3)
+    let (rigid, deformable) = (BodyModel::Rigid, BodyModel::Deformable);
+    let models = [rigid, deformable, deformable, deformable, rigid];
+    let (count, rows) = (models.len(), 2 * models.len() + 2);
+    let bodies: Vec<Body> = (0..count)
         .map(|i| {
             let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
             let spec = BodySpec::at_rest(format!("b{i}"), shape, models[i], false);
@@ -300,12 +303,12 @@ fn frames_read_beside_a_deformable_body() {
     let map = DofMap::new(&bodies, &[]);
     let mut flex = Flexibility::new(false);
     flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
-    let blocks = Arc::new(Blocks::new(&flex, &map, &[true; 3]));
-    let starts: Vec<usize> = (0..3).map(|b| map.range(b).start).collect();
-    assert!(!blocks.dense && starts == [0, 3, 7], "{starts:?}, dense {}", blocks.dense);
+    let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; count]));
+    let starts: Vec<usize> = (0..count).map(|b| map.range(b).start).collect();
+    assert!(!blocks.dense && starts == [0, 3, 7, 11, 15], "{starts:?}, dense {}", blocks.dense);
     let v: Vec<f64> = (0..map.total()).map(|i| 0.1 * i as f64 - 0.3).collect();
     let build = |framed: bool| {
-        let (mut jac, mut q) = (Jacobian::with_rows(8), vec![0.0; 8]);
+        let (mut jac, mut q) = (Jacobian::with_rows(rows), vec![0.0; rows]);
         // a wall contact on rigid disk b at rows r, r + 1, pushing on it along +x or -x
         let wall = |jac: &mut Jacobian, q: &mut [f64], b: usize, r: usize, dir: f64| {
             let (n, x) = (Vec2::new(dir, 0.1).normalize(), Vec2::new(b as f64 - 0.5 * dir, 0.0));
@@ -319,7 +322,7 @@ fn frames_read_beside_a_deformable_body() {
             }
         };
         wall(&mut jac, &mut q, 0, 0, 1.0);
-        for (k, (a, b)) in [(0, 1), (1, 2)].into_iter().enumerate() {
+        for (k, (a, b)) in (0..count - 1).map(|a| (a, a + 1)).enumerate() {
             let x = Vec2::new(a as f64 + 0.5, 0.0);
             for (r, dir) in [(2 + 2 * k, Vec2::x()), (3 + 2 * k, cw(Vec2::x()))] {
                 for (body, sign) in [(a, 1.0), (b, -1.0)] {
@@ -329,20 +332,20 @@ fn frames_read_beside_a_deformable_body() {
                 }
             }
         }
-        wall(&mut jac, &mut q, 2, 6, -1.0);
+        wall(&mut jac, &mut q, count - 1, rows - 2, -1.0);
         (jac, q)
     };
     let ((framed, q_framed), (plain, q)) = (build(true), build(false));
-    assert_eq!((framed.frames().len(), plain.frames().len(), framed.len(), plain.len()), (2, 0, 12, 12));
+    assert_eq!((framed.frames().len(), plain.frames().len(), framed.len(), plain.len()), (2, 0, 20, 20));
     let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
     assert!(bits(&q_framed, &q), "B v");
-    let (mut d_framed, mut d) = (vec![0.0; 8], vec![0.0; 8]);
+    let (mut d_framed, mut d) = (vec![0.0; rows], vec![0.0; rows]);
     let part_framed = BodyPart::new(&framed, Arc::clone(&blocks), &mut d_framed);
     let part = BodyPart::new(&plain, Arc::clone(&blocks), &mut d);
     assert!(bits(&d_framed, &d) && d.iter().all(|&x| x > 0.0), "diagonal");
-    let z: Vec<f64> = (0..8).map(|r| 0.3 - 0.1 * r as f64).collect();
+    let z: Vec<f64> = (0..rows).map(|r| 0.3 - 0.1 * r as f64).collect();
     let product = |part: &BodyPart, jac: &Jacobian| {
-        let mut out = vec![0.0; 8];
+        let mut out = vec![0.0; rows];
         part.apply(jac, &z, &mut out, true);
         out
     };
@@ -358,9 +361,9 @@ fn frames_read_beside_a_deformable_body() {
         out
     };
     assert!(bits(&response(&part_framed, &framed), &response(&part, &plain)), "response");
-    let sc: Vec<f64> = (0..8).map(|r| 1.0 + 0.25 * r as f64).collect();
+    let sc: Vec<f64> = (0..rows).map(|r| 1.0 + 0.25 * r as f64).collect();
     let bounds = |part: &BodyPart, jac: &Jacobian| {
-        let mut out = vec![0.0; 8];
+        let mut out = vec![0.0; rows];
         part.row_bounds(jac, &sc, &mut out);
         out
     };
