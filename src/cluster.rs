@@ -367,9 +367,9 @@ pub(crate) fn block_times<const N: usize>(k: &[f64], stride: usize, u: &[f64]) -
     o
 }
 
-/// K̃ of a cluster of at most `MAX_DOF` DOFs without meshes, dense over its DOFs: each body's
-/// K = K_e + (2/dt²) M (math note eq. 1.2) on its own DOFs, plus the cluster's coupling blocks
-/// `inside` in coupling order (for a single body, its connectors to fixed bodies).
+/// K̃ of a cluster of at most `MAX_DOF` DOFs without meshes, dense over its DOFs: its
+/// [`step_entries`] summed (for a single body, K = K_e + (2/dt²) M plus its connectors to fixed
+/// bodies).
 fn dense_step_matrix<'a>(
     map: &DofMap,
     c: usize,
@@ -378,20 +378,8 @@ fn dense_step_matrix<'a>(
     dt: f64,
     damping: f64,
 ) -> BodyMatrix {
-    let base = map.cluster_range(c).start;
     let mut k = BodyMatrix::zeros();
-    for &b in map.members(c) {
-        let (kb, at, n) = (bodies[b].step_matrix(dt, damping), map.range(b).start - base, bodies[b].ndof());
-        k.view_mut((at, at), (n, n)).copy_from(&kb.view((0, 0), (n, n)));
-    }
-    for cp in inside {
-        let (a0, b0) = (map.range(cp.a).start - base, map.range(cp.b).start - base);
-        for (i, &ri) in cp.ra.iter().enumerate() {
-            for (j, &rj) in cp.rb.iter().enumerate() {
-                k[(a0 + ri, b0 + rj)] += cp.block[(i, j)];
-            }
-        }
-    }
+    step_entries(map, c, bodies, inside, dt, damping, |r, col, v| k[(r, col)] += v);
     k
 }
 
@@ -448,8 +436,7 @@ impl Formed {
     }
 }
 
-/// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃: the bodies' blocks
-/// plus the coupling blocks between its bodies (`inside`, the cluster's).
+/// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃ ([`step_entries`]).
 fn cluster_triplets<'a>(
     map: &DofMap,
     c: usize,
@@ -458,39 +445,52 @@ fn cluster_triplets<'a>(
     dt: f64,
     damping: f64,
 ) -> Vec<(usize, usize, f64)> {
-    let base = map.cluster_range(c).start;
     let mut t = Vec::new();
-    let mut push = |r: usize, col: usize, v: f64| {
+    step_entries(map, c, bodies, inside, dt, damping, |r, col, v| {
         if r >= col {
-            t.push((r - base, col - base, v));
+            t.push((r, col, v));
         }
-    };
+    });
+    t
+}
+
+/// `visit(row, column, value)` for the entries of cluster `c`'s K̃ (cluster-local indices,
+/// duplicates to be summed): each body's block (a mesh's assembled K̄ = Σ K_e + (2/dt²) M_e,
+/// math note §9.1; else K = K_e + (2/dt²) M, eq. 1.2), then the coupling blocks between its
+/// bodies (`inside`, the cluster's) in order.
+fn step_entries<'a>(
+    map: &DofMap,
+    c: usize,
+    bodies: &[Body],
+    inside: impl Iterator<Item = &'a CouplingBlock>,
+    dt: f64,
+    damping: f64,
+    mut visit: impl FnMut(usize, usize, f64),
+) {
+    let base = map.cluster_range(c).start;
     for &b in map.members(c) {
+        let at = map.range(b).start - base;
         if let Some(fe) = &bodies[b].mesh {
-            // a mesh body: its assembled K̄ = Σ K_e + (2/dt²) M_e (math note §9.1)
-            let at = map.range(b).start;
             for (i, j, v) in fe.step_triplets(dt) {
-                push(at + i, at + j, v);
+                visit(at + i, at + j, v);
             }
             continue;
         }
-        let k = bodies[b].step_matrix(dt, damping);
-        let r = map.range(b);
-        for i in 0..r.len() {
-            for j in 0..r.len() {
-                push(r.start + i, r.start + j, k[(i, j)]);
+        let (k, n) = (bodies[b].step_matrix(dt, damping), bodies[b].ndof());
+        for i in 0..n {
+            for j in 0..n {
+                visit(at + i, at + j, k[(i, j)]);
             }
         }
     }
     for cp in inside {
-        let (a0, b0) = (map.range(cp.a).start, map.range(cp.b).start);
+        let (a0, b0) = (map.range(cp.a).start - base, map.range(cp.b).start - base);
         for (i, &ri) in cp.ra.iter().enumerate() {
             for (j, &rj) in cp.rb.iter().enumerate() {
-                push(a0 + ri, b0 + rj, cp.block[(i, j)]);
+                visit(a0 + ri, b0 + rj, cp.block[(i, j)]);
             }
         }
     }
-    t
 }
 
 #[cfg(test)]
