@@ -8,24 +8,25 @@ use crate::geometry::{Vec2, cw};
 use crate::jacobian::Piece;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
-/// `n` rigid disks of radius 0.5 in a row, one apart, each in body form: the bodies, their DOF
-/// map and flexibility, and the body form's blocks.
-fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
+/// Disks of radius 0.5 in a row, one apart, of the given models: the bodies, their DOF map and
+/// flexibility (each disk its own cluster).
+fn disks(models: &[BodyModel]) -> (Vec<Body>, DofMap, Flexibility) {
     let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-    let bodies: Vec<Body> = (0..n)
+    let bodies: Vec<Body> = (0..models.len())
         .map(|i| {
-            let spec = BodySpec::at_rest(
-                format!("b{i}"),
-                Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 },
-                BodyModel::Rigid,
-                false,
-            );
-            Body::new(&spec, &material, Plane::Stress)
+            let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
+            Body::new(&BodySpec::at_rest(format!("b{i}"), shape, models[i], false), &material, Plane::Stress)
         })
         .collect();
     let map = DofMap::new(&bodies, &[]);
     let mut flex = Flexibility::new(false);
     flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    (bodies, map, flex)
+}
+
+/// `n` rigid disks ([`disks`]), each in body form, with the body form's blocks.
+fn rigid_disks(n: usize) -> (Vec<Body>, DofMap, Flexibility, Arc<Blocks>) {
+    let (bodies, map, flex) = disks(&vec![BodyModel::Rigid; n]);
     let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; n]));
     (bodies, map, flex, blocks)
 }
@@ -289,20 +290,10 @@ fn frames_and_segments_side_by_side() {
 /// bit), and W z equals the assembled W's to 1e-12 of its largest entry (another order).
 #[test]
 fn frames_read_beside_a_deformable_body() {
-    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
     let (rigid, deformable) = (BodyModel::Rigid, BodyModel::Deformable);
     let models = [rigid, deformable, deformable, deformable, rigid];
     let (count, rows) = (models.len(), 2 * models.len() + 2);
-    let bodies: Vec<Body> = (0..count)
-        .map(|i| {
-            let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
-            let spec = BodySpec::at_rest(format!("b{i}"), shape, models[i], false);
-            Body::new(&spec, &material, Plane::Stress)
-        })
-        .collect();
-    let map = DofMap::new(&bodies, &[]);
-    let mut flex = Flexibility::new(false);
-    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let (bodies, map, flex) = disks(&models);
     let blocks = Arc::new(Blocks::new(&flex, &map, &vec![true; count]));
     let starts: Vec<usize> = (0..count).map(|b| map.range(b).start).collect();
     assert!(!blocks.dense && starts == [0, 3, 7, 11, 15], "{starts:?}, dense {}", blocks.dense);
@@ -378,17 +369,7 @@ fn frames_read_beside_a_deformable_body() {
 /// update copies the deformable disk's block, not the others' (their K̃⁻¹ unchanged).
 #[test]
 fn blocks_updated_in_place_equal_new_ones() {
-    let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-    let models = [BodyModel::Rigid, BodyModel::Deformable, BodyModel::Rigid];
-    let mut bodies: Vec<Body> = (0..3)
-        .map(|i| {
-            let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
-            Body::new(&BodySpec::at_rest(format!("b{i}"), shape, models[i], false), &material, Plane::Stress)
-        })
-        .collect();
-    let map = DofMap::new(&bodies, &[]);
-    let mut flex = Flexibility::new(false);
-    flex.refresh(&map, &bodies, &[], 0.01, 0.0).expect("K̃ is SPD");
+    let (mut bodies, map, mut flex) = disks(&[BodyModel::Rigid, BodyModel::Deformable, BodyModel::Rigid]);
     let mut kept = Blocks::new(&flex, &map, &[true; 3]);
     let before = kept.kinv.clone();
     let mut strain = crate::body::Dofs::zeros();
