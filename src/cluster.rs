@@ -22,7 +22,11 @@ use crate::body::{Body, BodyMatrix, MAX_DOF};
 use crate::dofs::DofMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+mod dense;
 mod sparse;
+pub use dense::DENSE_MAX;
+pub(crate) use dense::block_times;
+use dense::{Dense, body_solve};
 pub use sparse::{SparseError, SparseFactor};
 use std::sync::Arc;
 
@@ -97,6 +101,9 @@ pub(crate) enum Factor {
         inverse: BodyMatrix,
         root: BodyMatrix,
     },
+    /// The same for a cluster of more than 6 and at most `DENSE_MAX` DOFs without meshes,
+    /// n × n (`dense.rs`).
+    Dense(Dense),
     Sparse(SparseFactor),
 }
 
@@ -186,11 +193,9 @@ impl Flexibility {
         for c in changing {
             let members = map.members(c);
             let failed = || FactorError { bodies: members.iter().map(|&b| bodies[b].name.clone()).collect() };
-            // a single body, or bodies joined by connectors with at most MAX_DOF DOFs between
-            // them (two rigid disks joined by a bolt), without meshes: closed form (math note §6)
-            let closed =
-                map.cluster_range(c).len() <= MAX_DOF && members.iter().all(|&b| bodies[b].mesh.is_none());
-            let sparse = !closed || self.sparse_only;
+            // a single body, or bodies joined by connectors with at most DENSE_MAX DOFs between
+            // them (a chain of bolted disks), without meshes: closed form (math note §6)
+            let sparse = !dense::is_closed(map, c, bodies) || self.sparse_only;
             if sparse && !first && self.keeps(c, members, bodies) {
                 continue; // math note §9.3: the kept factor (and its cached columns) serves on
             }
@@ -198,9 +203,7 @@ impl Flexibility {
                 self.formed[c] = Some(members.iter().map(|&b| Formed::of(&bodies[b])).collect());
             }
             let factor = if !sparse {
-                let k = dense_step_matrix(map, c, bodies, inside(c), dt, damping);
-                let (inverse, root) = closed_form(k, map.cluster_range(c).len()).ok_or_else(failed)?;
-                Factor::Body { inverse, root }
+                dense::closed_factor(map, c, bodies, inside(c), dt, damping).ok_or_else(failed)?
             } else {
                 let triplets = cluster_triplets(map, c, bodies, inside(c), dt, damping);
                 // reuse the symbolic analysis of the last factor of this cluster
@@ -228,7 +231,7 @@ impl Flexibility {
     /// Keeps cluster `c`'s closed-form K̃⁻¹ over its `n` DOFs in `closed` (a new entry on the
     /// first refresh, in cluster order; else over the old one, which has the same size).
     fn pack(&mut self, c: usize, factor: &Factor, n: usize, first: bool) {
-        let Factor::Body { inverse, .. } = factor else {
+        let Some((inverse, stride)) = factor.closed() else {
             if first {
                 self.closed_at.push(NONE);
             }
@@ -242,7 +245,7 @@ impl Flexibility {
         }
         let at = self.closed_at[c] as usize;
         for (j, column) in closed[at..at + n * n].chunks_exact_mut(n).enumerate() {
-            column.copy_from_slice(&inverse.column(j).as_slice()[..n]);
+            column.copy_from_slice(&inverse[j * stride..j * stride + n]);
         }
     }
 
@@ -286,20 +289,22 @@ impl Flexibility {
         (&self.closed, (self.closed_at[c] != NONE).then_some(self.closed_at[c] as usize))
     }
 
-    /// K̃⁻¹ of cluster `c` when it is a single body's closed form (padded to 6×6).
+    /// K̃⁻¹ of cluster `c` when it is in closed form on the fixed 6×6 (a single body, or at most
+    /// 6 DOFs; padded).
     pub fn body_inverse(&self, c: usize) -> Option<&BodyMatrix> {
         match self.factors[c].as_ref() {
             Factor::Body { inverse, .. } => Some(inverse),
-            Factor::Sparse(_) => None,
+            Factor::Dense(_) | Factor::Sparse(_) => None,
         }
     }
 
-    /// A square root R of K̃_c⁻¹ (R Rᵀ = K̃_c⁻¹; upper triangular, padded to 6×6) when cluster `c`
-    /// is a single body's closed form: the body form's bound of ‖Ŵ‖ works with B R
-    /// (`delassus/bodies.rs`, math note §3.3).
-    pub fn body_root(&self, c: usize) -> Option<&BodyMatrix> {
+    /// A square root R of K̃_c⁻¹ (R Rᵀ = K̃_c⁻¹; upper triangular, column-major) and its column
+    /// stride (6, padded, or the cluster's DOF count) when cluster `c` is in closed form: the
+    /// body form's bound of ‖Ŵ‖ works with B R (`delassus/bodies.rs`, math note §3.3).
+    pub fn body_root(&self, c: usize) -> Option<(&[f64], usize)> {
         match self.factors[c].as_ref() {
-            Factor::Body { root, .. } => Some(root),
+            Factor::Body { root, .. } => Some((root.as_slice(), MAX_DOF)),
+            Factor::Dense(d) => Some((&d.root, d.n)),
             Factor::Sparse(_) => None,
         }
     }
@@ -326,85 +331,20 @@ impl ClusterSolver {
 impl Factor {
     fn solve(&self, v: &mut [f64]) {
         match self {
-            Factor::Body { inverse, .. } => body_solve(inverse.as_slice(), crate::body::MAX_DOF, v),
+            Factor::Body { inverse, .. } => body_solve(inverse.as_slice(), MAX_DOF, v),
+            Factor::Dense(d) => body_solve(&d.inverse, d.n, v),
             Factor::Sparse(f) => f.solve_in_place(v),
         }
     }
-}
 
-/// `v ← K v` over a body's n = `v.len()` DOFs, K its closed-form K̃⁻¹, column-major with column
-/// stride `stride` (n packed, or the padded 6): column by column, as a product.
-fn body_solve(k: &[f64], stride: usize, v: &mut [f64]) {
-    const M: usize = crate::body::MAX_DOF;
-    let n = v.len();
-    if n == 3 {
-        // a rigid body, unrolled (the same sums) and written back as three stores, not a call
-        // to memcpy (the loops cost 0.05 M instructions of a warm step of the 1,000-disk pile)
-        crate::jacobian::copy_small(v, &block_times::<3>(k, stride, v));
-        return;
-    }
-    let mut x = [0.0; M];
-    for (j, &vj) in v.iter().enumerate() {
-        for (i, xi) in x[..n].iter_mut().enumerate() {
-            *xi += k[j * stride + i] * vj;
+    /// A closed form's K̃⁻¹, column-major, and its column stride; `None` for a sparse factor.
+    fn closed(&self) -> Option<(&[f64], usize)> {
+        match self {
+            Factor::Body { inverse, .. } => Some((inverse.as_slice(), MAX_DOF)),
+            Factor::Dense(d) => Some((&d.inverse, d.n)),
+            Factor::Sparse(_) => None,
         }
     }
-    v.copy_from_slice(&x[..n]);
-}
-
-/// K u over the leading N × N block of the column-major `k` (column stride `stride`), summed
-/// column by column: the order of every body-block product (a body's factor here, the body
-/// form's packed blocks in `delassus`), so that their sums agree bit for bit.
-#[inline(always)]
-pub(crate) fn block_times<const N: usize>(k: &[f64], stride: usize, u: &[f64]) -> [f64; N] {
-    let (k, u) = (&k[..(N - 1) * stride + N], &u[..N]);
-    let mut o = [0.0; N];
-    for j in 0..N {
-        for i in 0..N {
-            o[i] += k[j * stride + i] * u[j];
-        }
-    }
-    o
-}
-
-/// K̃ of a cluster of at most `MAX_DOF` DOFs without meshes, dense over its DOFs: its
-/// [`step_entries`] summed (for a single body, K = K_e + (2/dt²) M plus its connectors to fixed
-/// bodies).
-fn dense_step_matrix<'a>(
-    map: &DofMap,
-    c: usize,
-    bodies: &[Body],
-    inside: impl Iterator<Item = &'a CouplingBlock>,
-    dt: f64,
-    damping: f64,
-) -> BodyMatrix {
-    let mut k = BodyMatrix::zeros();
-    step_entries(map, c, bodies, inside, dt, damping, |r, col, v| k[(r, col)] += v);
-    k
-}
-
-/// K̃⁻¹ and an upper triangular square root R (R Rᵀ = K̃⁻¹) of the symmetric leading n × n block
-/// of `k`, padded with zeros to `MAX_DOF` × `MAX_DOF`; `None` unless that block is positive
-/// definite with finite results. On the fixed size, its unused diagonal set to one: no heap
-/// allocation (n × n `DMatrix` work cost 10 k instructions per call, refreshed every step for a
-/// deformable body or a bolted pair). The leading block's factor, inverse and root are the n × n
-/// ones: the padding adds only exact zeros to their sums.
-fn closed_form(mut k: BodyMatrix, n: usize) -> Option<(BodyMatrix, BodyMatrix)> {
-    let pad = |m: &mut BodyMatrix, diagonal: f64| {
-        for i in n..MAX_DOF {
-            m.row_mut(i).fill(0.0);
-            m.column_mut(i).fill(0.0);
-            m[(i, i)] = diagonal;
-        }
-    };
-    pad(&mut k, 1.0);
-    let chol = k.cholesky()?;
-    let mut inverse = chol.inverse();
-    let mut root = chol.l().solve_lower_triangular(&BodyMatrix::identity())?.transpose();
-    pad(&mut inverse, 0.0);
-    pad(&mut root, 0.0);
-    let leading = |m: &BodyMatrix| m.view((0, 0), (n, n)).iter().all(|x| x.is_finite());
-    (leading(&inverse) && leading(&root)).then_some((inverse, root))
 }
 
 impl Formed {
@@ -500,55 +440,83 @@ mod tests {
     use crate::geometry::Vec2;
     use crate::model::{BodyModel, BodySpec, ConnectorKind, ConnectorSpec, Material, Plane, Shape};
 
-    /// Two rigid disks (radius 0.5, density 2) joined by a bolt (E = 1e8 Pa, A = 0.01 m²), one
-    /// cluster of 6 DOFs, get a closed form (`dense_step_matrix`, `closed_form`), and its K̃⁻¹ applied to each
-    /// unit vector equals the sparse factor's solve of the same K̃ (`Flexibility::new(true)`:
-    /// every cluster sparse) to 1e-12 of the largest entry. Both factor the same symmetric
-    /// positive definite matrix by Cholesky; its condition number here is about 1e3 (mass terms
-    /// 2m/dt² ≈ 3e4 and 2I/dt² ≈ 4e3 against the bolt's EA/l = 1e6), so they agree to about
-    /// 1e-16 × 1e3 of the largest entry.
-    #[test]
-    fn small_cluster_closed_form_equals_the_sparse_factor() {
+    /// `count` rigid disks (radius 0.5, density 2) in a row, one apart, each joined to the next
+    /// by a bolt (E = 1e8 Pa, A = 0.01 m²): one cluster of 3 `count` DOFs. Its flexibility in
+    /// the closed form where it applies, and through the sparse factor (`Flexibility::new(true)`:
+    /// every cluster sparse).
+    fn bolted_chain(count: usize) -> (DofMap, Flexibility, Flexibility) {
         let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
-        let bodies: Vec<Body> = (0..2)
+        let bodies: Vec<Body> = (0..count)
             .map(|i| {
                 let shape = Shape::Disk { center: Vec2::new(i as f64, 0.0), radius: 0.5 };
-                Body::new(
-                    &BodySpec::at_rest(format!("b{i}"), shape, BodyModel::Rigid, false),
-                    &material,
-                    Plane::Stress,
-                )
+                let spec = BodySpec::at_rest(format!("b{i}"), shape, BodyModel::Rigid, false);
+                Body::new(&spec, &material, Plane::Stress)
             })
             .collect();
-        let kind = ConnectorKind::Bolt { young: 1e8, area: 0.01 };
-        let points = [Vec2::new(0.0, 0.0), Vec2::new(1.0, 0.0)];
-        let spec = ConnectorSpec {
-            name: "bolt".into(),
-            kind,
-            bodies: [0, 1],
-            points,
-            pretension: 0.0,
-            strength: None,
-        };
-        let couplings = Connector::from_spec(&spec).stiffness(&bodies);
-        let map = DofMap::new(&bodies, &[(0, 1)]);
+        let couplings: Vec<CouplingBlock> = (1..count)
+            .flat_map(|i| {
+                let spec = ConnectorSpec {
+                    name: format!("bolt{i}"),
+                    kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
+                    bodies: [i - 1, i],
+                    points: [Vec2::new(i as f64 - 1.0, 0.0), Vec2::new(i as f64, 0.0)],
+                    pretension: 0.0,
+                    strength: None,
+                };
+                Connector::from_spec(&spec).stiffness(&bodies)
+            })
+            .collect();
+        let pairs: Vec<(usize, usize)> = (1..count).map(|i| (i - 1, i)).collect();
+        let map = DofMap::new(&bodies, &pairs);
         let (mut closed, mut sparse) = (Flexibility::new(false), Flexibility::new(true));
         closed.refresh(&map, &bodies, &couplings, 0.01, 0.0).expect("K̃ is SPD");
         sparse.refresh(&map, &bodies, &couplings, 0.01, 0.0).expect("K̃ is SPD");
-        assert_eq!((map.clusters(), map.cluster_range(0).len()), (1, 6));
-        assert!(closed.closed(0).1.is_some() && !closed.is_sparse(0) && sparse.is_sparse(0));
-        let columns = |flex: &Flexibility| -> Vec<f64> {
-            (0..6)
-                .flat_map(|i| {
-                    let mut e = vec![0.0; 6];
-                    e[i] = 1.0;
-                    flex.solve_cluster(0, &mut e);
-                    e
-                })
-                .collect()
-        };
-        let (got, want) = (columns(&closed), columns(&sparse));
-        let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        assert!(got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale), "{got:?} vs {want:?}");
+        assert_eq!((map.clusters(), map.cluster_range(0).len()), (1, 3 * count));
+        (map, closed, sparse)
+    }
+
+    /// The columns K̃⁻¹ e_i of cluster 0 (column-major, n × n).
+    fn columns(flex: &Flexibility, n: usize) -> Vec<f64> {
+        (0..n)
+            .flat_map(|i| {
+                let mut e = vec![0.0; n];
+                e[i] = 1.0;
+                flex.solve_cluster(0, &mut e);
+                e
+            })
+            .collect()
+    }
+
+    /// Bolted chains ([`bolted_chain`]) of 2, 3 and 16 disks (6, 9 and 48 DOFs) get a closed
+    /// form (`dense::closed_factor`: the fixed 6 × 6 for 6, n × n above) whose K̃⁻¹ applied to
+    /// each unit vector equals the sparse factor's solve of the same K̃ to 1e-12 of the largest
+    /// entry, and whose square root R (`body_root`) gives R Rᵀ = K̃⁻¹ to 1e-12 of it; a chain of
+    /// 17 (51 DOFs, above `DENSE_MAX`) goes through the sparse factor. Both factor the same
+    /// symmetric positive definite matrix by Cholesky. Its condition number (mass terms
+    /// 2m/dt² ≈ 3e4 and 2I/dt² ≈ 4e3 against each bolt's EA/l = 1e6) is 517, 772 and 1,017 for
+    /// 2, 3 and 16 disks (computed once from the closed form's eigenvalues), so the two agree to
+    /// about 1e-16 times that of the largest entry; 1e-12 leaves the margin. Both closed forms
+    /// are symmetric bit for bit (the n × n one formed as R Rᵀ: entries (i, j) and (j, i) sum the
+    /// same products in the same order).
+    #[test]
+    fn chain_closed_form_equals_the_sparse_factor() {
+        for count in [2, 3, 16] {
+            let n = 3 * count;
+            let (_, closed, sparse) = bolted_chain(count);
+            assert!(closed.closed(0).1.is_some() && !closed.is_sparse(0) && sparse.is_sparse(0), "{count}");
+            let (got, want) = (columns(&closed, n), columns(&sparse, n));
+            let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let near = |a: f64, b: f64| (a - b).abs() <= 1e-12 * scale;
+            assert!(got.iter().zip(&want).all(|(a, b)| near(*a, *b)), "{count}: {got:?} vs {want:?}");
+            let (root, stride) = closed.body_root(0).expect("a closed form");
+            let r = |i: usize, j: usize| root[j * stride + i];
+            for (i, j) in (0..n).flat_map(|i| (0..n).map(move |j| (i, j))) {
+                let rrt: f64 = (0..n).map(|k| r(i, k) * r(j, k)).sum();
+                assert!(near(rrt, want[j * n + i]), "{count}: R Rᵀ at ({i}, {j})");
+                assert_eq!(got[j * n + i].to_bits(), got[i * n + j].to_bits(), "{count}: symmetric");
+            }
+        }
+        let (_, closed, _) = bolted_chain(17);
+        assert!(closed.is_sparse(0) && closed.body_root(0).is_none());
     }
 }

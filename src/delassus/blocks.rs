@@ -42,6 +42,9 @@ pub(super) struct Blocks {
     /// start at a has its K̃⁻¹ at `kinv[3 a..3 a + 9]`, as B's contact frames read it
     /// (`frames.rs`).
     pub(super) dense: bool,
+    /// Per body, whether its cluster joins several bodies (by connectors): a row of B can then
+    /// have two segments on it (a contact between two of its bodies).
+    pub(super) joined: Vec<bool>,
     /// The length of the body vectors (B's columns).
     pub(super) dofs: usize,
 }
@@ -61,6 +64,7 @@ impl Blocks {
         blocks.start.reserve(count);
         blocks.n.reserve(count);
         blocks.square.reserve(count);
+        blocks.joined.reserve(count);
         blocks.packed.reserve(count);
         for (c, _) in body.iter().enumerate().filter(|(_, b)| **b) {
             if let ((kinv, Some(at)), Some(_)) = (flex.closed(c), flex.body_root(c)) {
@@ -76,6 +80,7 @@ impl Blocks {
                 blocks.start.push(range.start);
                 blocks.n.push(n);
                 blocks.square.push(at);
+                blocks.joined.push(map.members(c).len() > 1);
                 blocks.copy_root(flex, c);
                 blocks.packed.push(blocks.packed[b] + n * (n + 1) / 2);
             }
@@ -98,10 +103,10 @@ impl Blocks {
     /// column by column (a flat_map over entries cost 0.7 M instructions of a 21 M warm step on
     /// the 1,000-disk pile).
     fn copy_root(&mut self, flex: &Flexibility, c: usize) -> Option<()> {
-        let (b, r) = (self.compact[c] as usize, flex.body_root(c)?);
+        let (b, (r, stride)) = (self.compact[c] as usize, flex.body_root(c)?);
         let (n, at) = (self.n[b], self.square[b]);
         for (j, column) in self.root[at..at + n * n].chunks_exact_mut(n).enumerate() {
-            column.copy_from_slice(&r.column(j).as_slice()[..n]);
+            column.copy_from_slice(&r[j * stride..j * stride + n]);
         }
         Some(())
     }
