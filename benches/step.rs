@@ -3,8 +3,9 @@
 //! disks (4 DOF each); 1 000 rigid disks with rolling resistance (δ = 0.05); 1 000 disks of
 //! which the last (top right) is deformable, the others rigid: a mixed pile, whose rigid
 //! contacts stay contact frames beside the deformable disk's segments (math note §3.3); 1 000
-//! rigid disks with ten bolts, each joining two touching disks (ten clusters assembled
-//! explicitly beside 980 disks in body form).
+//! rigid disks with ten bolts, each joining two touching disks, and with ten chains of five
+//! disks bolted in a row (ten clusters of 6 and of 15 DOFs, each with a closed-form K̃⁻¹ in
+//! body form beside the single disks: math note §6).
 //! The pile is first stepped until a step converges (at most `SETTLE_CAP` steps), so that the
 //! measured step is warm-started and converged, as in a long run; contacts, PC iterations and
 //! the residual of the timed step are printed once per size.
@@ -41,37 +42,46 @@ fn settled(name: &str, model: Model) -> World {
     world
 }
 
-/// The bench pile with `count` bolts (E = 1e8 Pa, A = 0.01 m²), each joining a disk to the next
-/// one when they touch, spread over the pile, their anchors at the two centres.
-fn bolted(count: usize) -> Model {
+/// The bench pile with `chains` chains of `length` disks, each disk bolted (E = 1e8 Pa,
+/// A = 0.01 m², anchors at the two centres) to the next one, which it touches: chains spread
+/// over the pile, `length − 1` bolts each.
+fn bolted(chains: usize, length: usize) -> Model {
     let mut model = DiskPile::benchmark(40, 25).model();
     let n = model.bodies.len();
     let center = |s: &Shape| match s {
         Shape::Disk { center, .. } => *center,
         _ => unreachable!("a pile of disks"),
     };
-    let mut a = 0;
-    while model.connectors.len() < count && a + 1 < n {
-        let moving = !model.bodies[a].fixed && !model.bodies[a + 1].fixed;
-        let (pa, pb) = match moving {
-            true => (center(&model.bodies[a].shape), center(&model.bodies[a + 1].shape)),
-            false => (Default::default(), Default::default()),
-        };
-        if !moving || (pa - pb).norm() > 1.0 + 1e-6 {
+    // whether disks a and a + 1 both move and touch, and their centres
+    let touching = |model: &Model, a: usize| {
+        let (ba, bb) = (&model.bodies[a], &model.bodies[a + 1]);
+        if ba.fixed || bb.fixed {
+            return None; // (the box's walls are no disks)
+        }
+        let (pa, pb) = (center(&ba.shape), center(&bb.shape));
+        ((pa - pb).norm() <= 1.0 + 1e-6).then_some([pa, pb])
+    };
+    let (mut a, mut made) = (0, 0);
+    while made < chains && a + length <= n {
+        if (a..a + length - 1).any(|k| touching(&model, k).is_none()) {
             a += 1;
             continue;
         }
-        model.connectors.push(ConnectorSpec {
-            name: format!("bolt{}", model.connectors.len()),
-            kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
-            bodies: [a, a + 1],
-            points: [pa, pb],
-            pretension: 0.0,
-            strength: None,
-        });
-        a += n / count;
+        for k in a..a + length - 1 {
+            let points = touching(&model, k).expect("checked above");
+            model.connectors.push(ConnectorSpec {
+                name: format!("bolt{}", model.connectors.len()),
+                kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
+                bodies: [k, k + 1],
+                points,
+                pretension: 0.0,
+                strength: None,
+            });
+        }
+        made += 1;
+        a += n / chains;
     }
-    assert_eq!(model.connectors.len(), count, "touching pairs for every bolt");
+    assert_eq!(made, chains, "touching runs for every chain");
     model
 }
 
@@ -88,7 +98,8 @@ fn step(c: &mut Criterion) {
         ("deformable_disks_1000", deformable.model()),
         ("rolling_disks_1000", rolling.model()),
         ("one_deformable_in_1000", mixed),
-        ("ten_bolts_in_1000", bolted(10)),
+        ("ten_bolts_in_1000", bolted(10, 2)),
+        ("ten_chains_of_five_in_1000", bolted(10, 5)),
         ("rigid_disks_10000", DiskPile::benchmark(100, 100).model()),
     ] {
         let world = settled(name, model);
