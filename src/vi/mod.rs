@@ -57,7 +57,8 @@
 //! block exactly in closed form ([`BoundRule::block_law`]) with the bounds taken at the
 //! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
 //! when it stalls; or the outer loop of PC with MPRGP (`mprgp.rs`, math note §4.8) as the
-//! inner solver of each pass, handed over to PC by the same kind of guard when it fails.
+//! inner solver of each pass, handed over when it fails to NSGS on W's entries and, if that
+//! stalls, to PC (math note §4.8, "MPRGP's fallbacks").
 //! [`Method::Auto`] runs MPRGP.
 //!
 //! # Performance
@@ -108,6 +109,7 @@
 //! not checked (PC only needs monotonicity of G).
 
 mod face;
+mod guard;
 mod local;
 mod measure;
 mod method;
@@ -441,80 +443,6 @@ impl Solver {
             (Method::Mprgp, _) => self.solve_mprgp(p, rule, z, opts),
             _ => self.solve_pc(p, rule, z, opts, false),
         }
-    }
-
-    fn solve_nsgs(
-        &mut self,
-        w: sprs::CsMatView<f64>,
-        p: &Problem,
-        rule: &dyn BoundRule,
-        z: &mut [f64],
-        opts: &Options,
-    ) -> Report {
-        let mut stats = Stats::default();
-        match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
-            nsgs::End::Converged { sweeps, residual } => {
-                self.stats = stats;
-                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
-            }
-            nsgs::End::Fallback { sweeps } => {
-                let mut r = self.fallback(p, rule, z, opts, sweeps);
-                r.inner_iterations += sweeps;
-                self.stats.products += stats.products;
-                self.stats.fallbacks = 1;
-                r
-            }
-        }
-    }
-
-    /// MPRGP with the whole iteration budget; if it stops short of the tolerance before using it
-    /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
-    /// would report the same), PC from the caller's warm start with what is left (math note §4.8).
-    fn solve_mprgp(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
-        let r = self.solve_pc(p, rule, z, opts, true);
-        let left = opts.max_iterations.saturating_sub(r.inner_iterations);
-        let hopeless =
-            matches!(self.stats.status, Status::Diverged | Status::NonFinite | Status::InvalidInput);
-        if r.converged || hopeless || left == 0 {
-            return r;
-        }
-        let products = self.stats.products;
-        // the caller's warm start, which the run kept (it reaches here only past its setup)
-        z.copy_from_slice(&self.vectors.z0);
-        let mut r2 = self.solve_pc(p, rule, z, &Options { max_iterations: left, ..*opts }, false);
-        r2.inner_iterations += r.inner_iterations;
-        r2.outer_iterations += r.outer_iterations;
-        self.stats.products += products;
-        self.stats.fallbacks = 1;
-        r2
-    }
-
-    /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
-    /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
-    /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
-    /// judged against the warm start's scale, not against the grown NSGS iterate).
-    fn fallback(
-        &mut self,
-        p: &Problem,
-        rule: &dyn BoundRule,
-        z: &mut [f64],
-        opts: &Options,
-        sweeps: usize,
-    ) -> Report {
-        let left = opts.max_iterations.saturating_sub(sweeps);
-        let first = Options { max_iterations: left / 2, ..*opts };
-        let r = self.solve_pc(p, rule, z, &first, false);
-        if r.converged {
-            return r;
-        }
-        let products = self.stats.products;
-        z.copy_from_slice(self.nsgs.warm_start());
-        let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
-        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
-        r2.inner_iterations += r.inner_iterations;
-        r2.outer_iterations += r.outer_iterations;
-        self.stats.products += products;
-        r2
     }
 
     /// The PC path (math note §4.2–4.3), with MPRGP as the inner solver of the passes when

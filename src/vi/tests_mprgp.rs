@@ -105,11 +105,16 @@ fn mprgp_reports_rays_and_nan() {
 /// with max_iterations = 1 MPRGP uses the whole budget, so there is nothing left for PC:
 /// IterationLimit after exactly 1 iteration, no hand-over; with the full budget exactly CG's 2
 /// steps solve it (z to 5e-6: residual 1e-12 times cond W = 1999 times |z| = 500).
-/// (b) Pass limit: the sliding case of `coulomb_stick_and_slide` needs at least 3 passes; with
-/// max_outer = 1 MPRGP stops after its one pass with budget left, PC takes over from the warm
-/// start and stops after its one pass too: OuterLimit, one hand-over, 2 passes in all. From the
-/// warm start (0.5, 0.1) the hand-over's answer is, bit for bit, that of PC alone from the same
-/// warm start (its one pass does not use up the budget either way), not PC's from MPRGP's iterate.
+/// (b) Pass limit: the sliding case of `coulomb_stick_and_slide` (W = [[2, 0.5], [0.5, 1]],
+/// q = (−2, −2), μ = 0.5: sliding at z = (8/9, 4/9), the normal row 2 z_n + 0.5 · z_n / 2 = 2)
+/// needs at least 3 passes; with max_outer = 1 MPRGP stops after its one pass with budget left,
+/// and NSGS, which takes the friction bound at the current iterate and needs no passes, solves
+/// it from the warm start: converged (to 1e-9, the residual 1e-12 times cond W ≈ 2.5 times
+/// |z| ≈ 1, with margin), one hand-over, 2 passes in all; from the warm start (0.5, 0.1) the
+/// hand-over's answer is, bit for bit, that of NSGS alone from the same warm start, not from
+/// MPRGP's iterate. (c) The same problem behind a matrix-free W (`MatrixFree`, no entries for
+/// NSGS to sweep): PC takes over from the warm start and stops after its one pass too:
+/// OuterLimit, one hand-over, 2 passes; from (0.5, 0.1) bit for bit PC alone's answer.
 #[test]
 fn mprgp_guard() {
     let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
@@ -128,13 +133,25 @@ fn mprgp_guard() {
     assert!((z[0] + 1.0 / det).abs() < 5e-6 && (z[1] - 0.999 / det).abs() < 5e-6, "{z:?}");
 
     let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
-    let mut z = vec![0.0; 2];
     let o = Options { max_outer: 1, ..opts(1e-12, true) };
-    let rep = ws.solve(&Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] }, &Friction(0.5), &mut z, &o);
+    let p = Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] };
+    let mut z = vec![0.0; 2];
+    let rep = ws.solve(&p, &Friction(0.5), &mut z, &o);
+    let st = ws.stats();
+    assert!(rep.converged && rep.outer_iterations == 2 && st.fallbacks == 1, "{rep:?} {st:?}");
+    assert!((z[0] - 8.0 / 9.0).abs() < 1e-9 && (z[1] - 4.0 / 9.0).abs() < 1e-9, "{z:?}");
+    let (mut z, mut z_nsgs) = (vec![0.5, 0.1], vec![0.5, 0.1]);
+    assert!(ws.solve(&p, &Friction(0.5), &mut z, &o).converged);
+    let nsgs = Solver::new().with_method(Method::Nsgs).solve(&p, &Friction(0.5), &mut z_nsgs, &o);
+    assert!(nsgs.converged && z == z_nsgs, "{z:?} {z_nsgs:?}");
+
+    let free = MatrixFree(w.clone());
+    let p = Problem { w: &free, q: &[-2.0, -2.0], blocks: &[0, 2] };
+    let mut z = vec![0.0; 2];
+    let rep = ws.solve(&p, &Friction(0.5), &mut z, &o);
     let st = ws.stats();
     assert!(!rep.converged && st.status == Status::OuterLimit && st.fallbacks == 1, "{rep:?} {st:?}");
     assert_eq!(rep.outer_iterations, 2);
-    let p = Problem { w: &w, q: &[-2.0, -2.0], blocks: &[0, 2] };
     let (mut z, mut z_pc) = (vec![0.5, 0.1], vec![0.5, 0.1]);
     assert_eq!(ws.solve(&p, &Friction(0.5), &mut z, &o).outer_iterations, 2);
     let pc = Solver::new().with_method(Method::Pc).solve(&p, &Friction(0.5), &mut z_pc, &o);

@@ -1,0 +1,118 @@
+//! The methods' hand-overs (math note §4.7, §4.8): NSGS to PC when its stall guard stops it;
+//! MPRGP to NSGS on W's entries and then to PC when its passes stop short of the tolerance.
+
+use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, nsgs};
+
+impl Solver {
+    pub(super) fn solve_nsgs(
+        &mut self,
+        w: sprs::CsMatView<f64>,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+    ) -> Report {
+        let mut stats = Stats::default();
+        match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
+            nsgs::End::Converged { sweeps, residual } => {
+                self.stats = stats;
+                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
+            }
+            nsgs::End::Fallback { sweeps } => {
+                let mut r = self.fallback(p, rule, z, opts, sweeps);
+                r.inner_iterations += sweeps;
+                self.stats.products += stats.products;
+                self.stats.fallbacks = 1;
+                r
+            }
+        }
+    }
+
+    /// MPRGP with the whole iteration budget; if it stops short of the tolerance before using it
+    /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
+    /// would report the same), NSGS from the caller's warm start on W's entries, and if its
+    /// stall guard stops it, PC from the warm start with what is left (math note §4.8, "MPRGP's
+    /// fallbacks").
+    pub(super) fn solve_mprgp(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+    ) -> Report {
+        let r = self.solve_pc(p, rule, z, opts, true);
+        let hopeless =
+            matches!(self.stats.status, Status::Diverged | Status::NonFinite | Status::InvalidInput);
+        if r.converged || hopeless || r.inner_iterations >= opts.max_iterations {
+            return r;
+        }
+        let (mut spent, mut products) = (r.inner_iterations, self.stats.products);
+        // the caller's warm start, which the run kept (it reaches here only past its setup)
+        z.copy_from_slice(&self.vectors.z0);
+        let owned = p.w.as_csr().is_none().then(|| from_entries(p)).flatten();
+        let w = p.w.as_csr().or(owned.as_ref().map(|w| w.view()));
+        if let Some(w) = w.filter(|w| nsgs::applicable(w, p.blocks)) {
+            let mut stats = Stats::default();
+            let budget = Options { max_iterations: opts.max_iterations - spent, ..*opts };
+            match self.nsgs.run(w, p.q, p.blocks, rule, z, &budget, &mut stats) {
+                nsgs::End::Converged { sweeps, residual } => {
+                    self.stats = Stats { products: products + stats.products, fallbacks: 1, ..stats };
+                    let (outer_iterations, inner_iterations) = (r.outer_iterations + 1, spent + sweeps);
+                    return Report { outer_iterations, inner_iterations, residual, converged: true };
+                }
+                nsgs::End::Fallback { sweeps } => {
+                    (spent, products) = (spent + sweeps, products + stats.products);
+                    z.copy_from_slice(self.nsgs.warm_start());
+                }
+            }
+        }
+        let rest = Options { max_iterations: opts.max_iterations.saturating_sub(spent), ..*opts };
+        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
+        r2.inner_iterations += spent;
+        r2.outer_iterations += r.outer_iterations;
+        self.stats.products += products;
+        self.stats.fallbacks = 1;
+        r2
+    }
+
+    /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
+    /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
+    /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
+    /// judged against the warm start's scale, not against the grown NSGS iterate).
+    fn fallback(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        sweeps: usize,
+    ) -> Report {
+        let left = opts.max_iterations.saturating_sub(sweeps);
+        let first = Options { max_iterations: left / 2, ..*opts };
+        let r = self.solve_pc(p, rule, z, &first, false);
+        if r.converged {
+            return r;
+        }
+        let products = self.stats.products;
+        z.copy_from_slice(self.nsgs.warm_start());
+        let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
+        let mut r2 = self.solve_pc(p, rule, z, &rest, false);
+        r2.inner_iterations += r.inner_iterations;
+        r2.outer_iterations += r.outer_iterations;
+        self.stats.products += products;
+        r2
+    }
+}
+
+/// W in CSR from the operator's entries (all rows; duplicates summed), or `None` when it has
+/// none at hand (factored clusters): for NSGS, whose sweeps read W's rows.
+fn from_entries(p: &Problem) -> Option<sprs::CsMat<f64>> {
+    let n = p.q.len();
+    let mut entries = Vec::new();
+    if !p.w.entries(&vec![true; n], &mut entries) {
+        return None;
+    }
+    let mut w = sprs::TriMat::with_capacity((n, n), entries.len());
+    entries.into_iter().for_each(|(i, j, v)| w.add_triplet(i, j, v));
+    Some(w.to_csr())
+}
