@@ -1,12 +1,12 @@
 //! The step stiffness K̃ = K_e + (2/dt²) M per cluster and its solves (math note eq. 1.2,
 //! §3.1 "coupled K", §10.6).
 //!
-//! A cluster of one body keeps the closed-form path: K is at most 6×6, factorized by a small
-//! dense Cholesky and inverted (the reference path, nalgebra). A cluster of several bodies
-//! (joined by connectors) or a meshed body assembles a sparse K̃ and factorizes it with faer's
-//! sparse Cholesky: the symbolic analysis is done once while the sparsity pattern is
-//! unchanged, the numeric factorization whenever the values change. Nothing bigger than one
-//! body is ever inverted explicitly.
+//! A cluster without meshes of at most `DENSE_MAX` = 48 DOFs (a single body, or a few bodies
+//! joined by connectors) takes the closed-form path: K̃ dense, factorized by a dense Cholesky
+//! and inverted (nalgebra; `dense.rs`, math note §6). A larger cluster or a meshed body
+//! assembles a sparse K̃ and factorizes it with faer's sparse Cholesky: the symbolic analysis
+//! is done once while the sparsity pattern is unchanged, the numeric factorization whenever
+//! the values change; such a cluster is never inverted explicitly.
 //!
 //! ```
 //! use pbdda::cluster::SparseFactor;
@@ -433,12 +433,35 @@ fn step_entries<'a>(
     }
 }
 
+/// Test helper: a bolt (E = 1e8 Pa, A = 0.01 m²) from each of the first `count` bodies to the
+/// next, anchored at (i − 1, 0) and (i, 0) (the centres of a row of disks one apart): the
+/// coupling blocks and the joined pairs.
+#[cfg(test)]
+pub(crate) fn bolted_row(bodies: &[Body], count: usize) -> (Vec<CouplingBlock>, Vec<(usize, usize)>) {
+    use crate::connector::Connector;
+    use crate::geometry::Vec2;
+    use crate::model::{ConnectorKind, ConnectorSpec};
+    let couplings = (1..count)
+        .flat_map(|i| {
+            let spec = ConnectorSpec {
+                name: format!("bolt{i}"),
+                kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
+                bodies: [i - 1, i],
+                points: [Vec2::new(i as f64 - 1.0, 0.0), Vec2::new(i as f64, 0.0)],
+                pretension: 0.0,
+                strength: None,
+            };
+            Connector::from_spec(&spec).stiffness(bodies)
+        })
+        .collect();
+    (couplings, (1..count).map(|i| (i - 1, i)).collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::connector::Connector;
     use crate::geometry::Vec2;
-    use crate::model::{BodyModel, BodySpec, ConnectorKind, ConnectorSpec, Material, Plane, Shape};
+    use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
     /// `count` rigid disks (radius 0.5, density 2) in a row, one apart, each joined to the next
     /// by a bolt (E = 1e8 Pa, A = 0.01 m²): one cluster of 3 `count` DOFs. Its flexibility in
@@ -453,20 +476,7 @@ mod tests {
                 Body::new(&spec, &material, Plane::Stress)
             })
             .collect();
-        let couplings: Vec<CouplingBlock> = (1..count)
-            .flat_map(|i| {
-                let spec = ConnectorSpec {
-                    name: format!("bolt{i}"),
-                    kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
-                    bodies: [i - 1, i],
-                    points: [Vec2::new(i as f64 - 1.0, 0.0), Vec2::new(i as f64, 0.0)],
-                    pretension: 0.0,
-                    strength: None,
-                };
-                Connector::from_spec(&spec).stiffness(&bodies)
-            })
-            .collect();
-        let pairs: Vec<(usize, usize)> = (1..count).map(|i| (i - 1, i)).collect();
+        let (couplings, pairs) = bolted_row(&bodies, count);
         let map = DofMap::new(&bodies, &pairs);
         let (mut closed, mut sparse) = (Flexibility::new(false), Flexibility::new(true));
         closed.refresh(&map, &bodies, &couplings, 0.01, 0.0).expect("K̃ is SPD");

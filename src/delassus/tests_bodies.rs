@@ -395,23 +395,8 @@ fn blocks_updated_in_place_equal_new_ones() {
 /// the next (E = 1e8 Pa, A = 0.01 m²) into one cluster, the rest alone: the bodies, their DOF
 /// map and flexibility.
 fn bolted(models: &[BodyModel], joined: usize) -> (Vec<Body>, DofMap, Flexibility) {
-    use crate::connector::Connector;
-    use crate::model::{ConnectorKind, ConnectorSpec};
     let (bodies, _, _) = disks(models);
-    let couplings: Vec<crate::cluster::CouplingBlock> = (1..joined)
-        .flat_map(|i| {
-            let spec = ConnectorSpec {
-                name: format!("bolt{i}"),
-                kind: ConnectorKind::Bolt { young: 1e8, area: 0.01 },
-                bodies: [i - 1, i],
-                points: [Vec2::new(i as f64 - 1.0, 0.0), Vec2::new(i as f64, 0.0)],
-                pretension: 0.0,
-                strength: None,
-            };
-            Connector::from_spec(&spec).stiffness(&bodies)
-        })
-        .collect();
-    let pairs: Vec<(usize, usize)> = (1..joined).map(|i| (i - 1, i)).collect();
+    let (couplings, pairs) = crate::cluster::bolted_row(&bodies, joined);
     let map = DofMap::new(&bodies, &pairs);
     let mut flex = Flexibility::new(false);
     flex.refresh(&map, &bodies, &couplings, 0.01, 0.0).expect("K̃ is SPD");
