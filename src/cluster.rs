@@ -202,10 +202,11 @@ impl Flexibility {
             if sparse && self.factor_drift > 0.0 {
                 self.formed[c] = Some(members.iter().map(|&b| Formed::of(&bodies[b])).collect());
             }
+            let k = StepStiffness { map, c, bodies, inside: inside(c), dt, damping };
             let factor = if !sparse {
-                dense::closed_factor(map, c, bodies, inside(c), dt, damping).ok_or_else(failed)?
+                dense::closed_factor(k).ok_or_else(failed)?
             } else {
-                let triplets = cluster_triplets(map, c, bodies, inside(c), dt, damping);
+                let triplets = k.lower_triplets();
                 // reuse the symbolic analysis of the last factor of this cluster
                 let mut sparse = match self.factors.get(c).filter(|_| !first).map(|f| f.as_ref()) {
                     Some(Factor::Sparse(s)) => s.renewed(),
@@ -376,58 +377,63 @@ impl Formed {
     }
 }
 
-/// Lower-triangle triplets (cluster-local indices) of cluster `c`'s K̃ ([`step_entries`]).
-fn cluster_triplets<'a>(
-    map: &DofMap,
+/// Cluster `c`'s step stiffness K̃ as its entries come ([`Self::entries`]): its bodies, and its
+/// coupling blocks `inside` (the cluster's, in coupling order), at step `dt` with the
+/// stiffness-proportional `damping`. What the closed form (`dense.rs`) and the sparse factor
+/// are built from.
+struct StepStiffness<'a, I> {
+    map: &'a DofMap,
     c: usize,
-    bodies: &[Body],
-    inside: impl Iterator<Item = &'a CouplingBlock>,
+    bodies: &'a [Body],
+    inside: I,
     dt: f64,
     damping: f64,
-) -> Vec<(usize, usize, f64)> {
-    let mut t = Vec::new();
-    step_entries(map, c, bodies, inside, dt, damping, |r, col, v| {
-        if r >= col {
-            t.push((r, col, v));
-        }
-    });
-    t
 }
 
-/// `visit(row, column, value)` for the entries of cluster `c`'s K̃ (cluster-local indices,
-/// duplicates to be summed): each body's block (a mesh's assembled K̄ = Σ K_e + (2/dt²) M_e,
-/// math note §9.1; else K = K_e + (2/dt²) M, eq. 1.2), then the coupling blocks between its
-/// bodies (`inside`, the cluster's) in order.
-fn step_entries<'a>(
-    map: &DofMap,
-    c: usize,
-    bodies: &[Body],
-    inside: impl Iterator<Item = &'a CouplingBlock>,
-    dt: f64,
-    damping: f64,
-    mut visit: impl FnMut(usize, usize, f64),
-) {
-    let base = map.cluster_range(c).start;
-    for &b in map.members(c) {
-        let at = map.range(b).start - base;
-        if let Some(fe) = &bodies[b].mesh {
-            for (i, j, v) in fe.step_triplets(dt) {
-                visit(at + i, at + j, v);
-            }
-            continue;
-        }
-        let (k, n) = (bodies[b].step_matrix(dt, damping), bodies[b].ndof());
-        for i in 0..n {
-            for j in 0..n {
-                visit(at + i, at + j, k[(i, j)]);
-            }
-        }
+impl<'a, I: Iterator<Item = &'a CouplingBlock>> StepStiffness<'a, I> {
+    /// The cluster's DOF count.
+    fn dofs(&self) -> usize {
+        self.map.cluster_range(self.c).len()
     }
-    for cp in inside {
-        let (a0, b0) = (map.range(cp.a).start - base, map.range(cp.b).start - base);
-        for (i, &ri) in cp.ra.iter().enumerate() {
-            for (j, &rj) in cp.rb.iter().enumerate() {
-                visit(a0 + ri, b0 + rj, cp.block[(i, j)]);
+
+    /// Lower-triangle triplets (cluster-local indices) of K̃ ([`Self::entries`]).
+    fn lower_triplets(self) -> Vec<(usize, usize, f64)> {
+        let mut t = Vec::new();
+        self.entries(|r, col, v| {
+            if r >= col {
+                t.push((r, col, v));
+            }
+        });
+        t
+    }
+
+    /// `visit(row, column, value)` for the entries of K̃ (cluster-local indices, duplicates to
+    /// be summed): each body's block (a mesh's assembled K̄ = Σ K_e + (2/dt²) M_e, math note
+    /// §9.1; else K = K_e + (2/dt²) M, eq. 1.2), then the coupling blocks between its bodies in
+    /// order.
+    fn entries(self, mut visit: impl FnMut(usize, usize, f64)) {
+        let base = self.map.cluster_range(self.c).start;
+        for &b in self.map.members(self.c) {
+            let at = self.map.range(b).start - base;
+            if let Some(fe) = &self.bodies[b].mesh {
+                for (i, j, v) in fe.step_triplets(self.dt) {
+                    visit(at + i, at + j, v);
+                }
+                continue;
+            }
+            let (k, n) = (self.bodies[b].step_matrix(self.dt, self.damping), self.bodies[b].ndof());
+            for i in 0..n {
+                for j in 0..n {
+                    visit(at + i, at + j, k[(i, j)]);
+                }
+            }
+        }
+        for cp in self.inside {
+            let (a0, b0) = (self.map.range(cp.a).start - base, self.map.range(cp.b).start - base);
+            for (i, &ri) in cp.ra.iter().enumerate() {
+                for (j, &rj) in cp.rb.iter().enumerate() {
+                    visit(a0 + ri, b0 + rj, cp.block[(i, j)]);
+                }
             }
         }
     }

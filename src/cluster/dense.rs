@@ -1,11 +1,11 @@
 //! The closed-form K̃_c⁻¹ of a cluster without meshes of at most [`DENSE_MAX`] DOFs (math note
-//! §6, "Clusters", code rules): K̃ assembled dense from the cluster's [`step_entries`],
+//! §6, "Clusters", code rules): K̃ assembled dense from the cluster's entries (`StepStiffness`),
 //! factorized by a dense Cholesky and inverted, with the square root R (R Rᵀ = K̃⁻¹) that the
 //! body form's bound of ‖Ŵ‖ needs. A single body, or a cluster of at most `MAX_DOF` DOFs (two
 //! rigid disks joined by a bolt), on the fixed 6 × 6; a larger cluster (a chain of bolted blocks,
 //! a bolt into a deformable body) on its own n × n.
 
-use super::{CouplingBlock, Factor, step_entries};
+use super::{CouplingBlock, Factor, StepStiffness};
 use crate::body::{Body, BodyMatrix, MAX_DOF};
 use crate::dofs::DofMap;
 use nalgebra::DMatrix;
@@ -32,25 +32,20 @@ pub(super) fn is_closed(map: &DofMap, c: usize, bodies: &[Body]) -> bool {
     map.cluster_range(c).len() <= DENSE_MAX && map.members(c).iter().all(|&b| bodies[b].mesh.is_none())
 }
 
-/// Cluster `c`'s closed-form factor (K̃ from its bodies' blocks and its coupling blocks
-/// `inside`); `None` unless K̃ is positive definite with finite results.
+/// The cluster's closed-form factor from its K̃ (`stiffness`'s entries summed); `None` unless K̃
+/// is positive definite with finite results.
 pub(super) fn closed_factor<'a>(
-    map: &DofMap,
-    c: usize,
-    bodies: &[Body],
-    inside: impl Iterator<Item = &'a CouplingBlock>,
-    dt: f64,
-    damping: f64,
+    stiffness: StepStiffness<'a, impl Iterator<Item = &'a CouplingBlock>>,
 ) -> Option<Factor> {
-    let n = map.cluster_range(c).len();
+    let n = stiffness.dofs();
     if n <= MAX_DOF {
         let mut k = BodyMatrix::zeros();
-        step_entries(map, c, bodies, inside, dt, damping, |r, col, v| k[(r, col)] += v);
+        stiffness.entries(|r, col, v| k[(r, col)] += v);
         let (inverse, root) = closed_form(k, n)?;
         return Some(Factor::Body { inverse, root });
     }
     let mut k = DMatrix::<f64>::zeros(n, n);
-    step_entries(map, c, bodies, inside, dt, damping, |r, col, v| k[(r, col)] += v);
+    stiffness.entries(|r, col, v| k[(r, col)] += v);
     // R = L⁻ᵀ, and K̃⁻¹ = R Rᵀ by one product (symmetric bit for bit: entries (i, j) and (j, i)
     // sum the same products in the same order)
     let root = k.cholesky()?.l().solve_lower_triangular(&DMatrix::identity(n, n))?.transpose();
