@@ -45,6 +45,10 @@ pub(super) struct BodyPart {
     /// Where B splits into two halves whose rows do not overlap, at about half of it; `None`
     /// when it does not split so.
     split: Option<Cut>,
+    /// When a cluster joins several bodies: per segment of B's own, the last one before it of its
+    /// row on its cluster, or `NONE` ([`Self::same_row_before`]); the diagonal and the row
+    /// bounds pair a row's segments on one cluster through it.
+    before: Option<Vec<u32>>,
     /// Work storage of the products.
     work: Mutex<Vec<f64>>,
 }
@@ -56,6 +60,7 @@ impl BodyPart {
     pub fn new(jac: &Jacobian, blocks: Arc<Blocks>, diagonal: &mut [f64]) -> Self {
         debug_assert!(jac.frame_clusters().iter().flatten().all(|&c| blocks.rigid[c as usize] != NONE));
         let mut part = BodyPart { blocks, ..Default::default() };
+        part.before = part.blocks.joined.iter().any(|&j| j).then(|| part.same_row_before(jac));
         part.split = if jac.len() >= HALVES_FROM { cut_of(jac) } else { None };
         part.count = match part.split {
             None => part.half_diagonal(jac, 0, diagonal, 0),
@@ -159,24 +164,18 @@ impl BodyPart {
     }
 
     /// W_rr += Σ_c (Σ_{s of row r on c} s) K̃_c⁻¹ (Σ_s s)ᵀ over B's own segments `segs` (not its
-    /// frames': `Jacobian::own_segments`), whose rows
-    /// are those of `diagonal`, which starts at row `row0`: each segment's s K̃⁻¹ sᵀ, plus twice
-    /// its products with the earlier segments of its row on its body (found through a chain per
-    /// row). A rigid body's segment (3 DOFs, the whole body) is its body's only one in its row,
-    /// since a contact joins two bodies: it neither walks nor joins the chains, whose links are
-    /// made on the first other segment (a pile of rigid disks makes none). With its K̃⁻¹ found by
-    /// one load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the 1,000-disk
-    /// pile. Returns the number of those segments on body-form clusters.
+    /// frames': `Jacobian::own_segments`), whose rows are those of `diagonal`, which starts at
+    /// row `row0`: each segment's s K̃⁻¹ sᵀ, plus twice its products with the earlier segments of
+    /// its row on its cluster (`before`; only a cluster joining several bodies has them, since a
+    /// contact joins two bodies). A rigid body's segment (3 DOFs, the whole body) has its K̃⁻¹
+    /// found by one load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the
+    /// 1,000-disk pile. Returns the number of those segments on body-form clusters.
     fn add_diagonal(&self, jac: &Jacobian, segs: Range<usize>, diagonal: &mut [f64], row0: usize) -> usize {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
         let all = jac.own_segments();
-        // per row of `diagonal` its last segment in the chain, per segment of `segs` the one
-        // before (u32, as in `Segment`: half the memory to clear)
-        let mut chains: Option<(Vec<u32>, Vec<u32>)> = None;
         let (mut u, mut x) = ([0.0; DENSE_MAX], [0.0; DENSE_MAX]);
         let mut count = 0;
-        let first = segs.start;
-        for i in segs.clone() {
+        for i in segs {
             let s = &all[i];
             let k = rigid[s.cluster()];
             if k != NONE && s.width() == 3 {
@@ -191,21 +190,16 @@ impl BodyPart {
                 continue;
             }
             count += 1;
-            let (last, prev) =
-                chains.get_or_insert_with(|| (vec![NONE; diagonal.len()], vec![NONE; segs.len()]));
             self.column(jac, s, &mut u, &mut x);
             let mut d = self.dot(jac, s, &x);
-            let r = s.row() - row0;
-            let mut j = last[r];
-            while j != NONE {
-                let t = &all[j as usize];
-                if t.cluster() == s.cluster() {
-                    d += 2.0 * self.dot(jac, t, &x);
+            if let Some(before) = &self.before {
+                let mut j = before[i];
+                while j != NONE {
+                    d += 2.0 * self.dot(jac, &all[j as usize], &x);
+                    j = before[j as usize];
                 }
-                j = prev[j as usize - first];
             }
-            diagonal[r] += d;
-            (prev[i - first], last[r]) = (last[r], i as u32);
+            diagonal[s.row() - row0] += d;
         }
         count
     }
@@ -409,8 +403,7 @@ impl BodyPart {
         };
         let frames = |r: Range<usize>| jac.frames()[r.clone()].iter().zip(&jac.frame_clusters()[r]);
         let own = jac.own_segments();
-        let before = self.blocks.joined.iter().any(|&j| j).then(|| self.same_row_before(own, jac.rows));
-        let before = before.as_deref();
+        let before = self.before.as_deref();
         // in push order, as the sums of M over the segments made from the frames
         for piece in jac.pieces() {
             match piece {
@@ -438,12 +431,13 @@ impl BodyPart {
         }
     }
 
-    /// Per segment of `own` (B's own segments), the last one before it of its row on its
-    /// cluster when that cluster joins several bodies, else `NONE`: through a chain per row of
-    /// such segments (`last` per row, `prev` per segment).
-    fn same_row_before(&self, own: &[Segment], rows: usize) -> Vec<u32> {
+    /// Per segment of B's own, the last one before it of its row on its cluster when that
+    /// cluster joins several bodies, else `NONE`: through a chain per row of such segments
+    /// (`last` per row, `prev` per segment).
+    fn same_row_before(&self, jac: &Jacobian) -> Vec<u32> {
+        let own = jac.own_segments();
         let (mut last, mut prev, mut before) =
-            (vec![NONE; rows], vec![NONE; own.len()], vec![NONE; own.len()]);
+            (vec![NONE; jac.rows], vec![NONE; own.len()], vec![NONE; own.len()]);
         for (i, s) in own.iter().enumerate() {
             if !self.on_body(s) || !self.blocks.joined[self.body(s)] {
                 continue;
