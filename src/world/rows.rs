@@ -64,8 +64,9 @@ impl Site {
     const NONE: u32 = u32::MAX;
 
     /// Body `b`'s site: a rigid body alone in its cluster gives frames (the body form reads
-    /// them), any other body segments (a rigid body joined to others by a connector is in a
-    /// cluster the assembly reads as segments).
+    /// them, each body's K̃⁻¹ a 3 × 3 block of its own), any other body segments (a rigid body
+    /// joined to others by a connector shares its cluster's K̃⁻¹: a dense block over the
+    /// cluster's DOFs in body form, or the assembly's above 48 DOFs).
     pub fn of(body: &Body, b: usize, dofs: &DofMap) -> Site {
         let (range, cluster) = (dofs.range(b), dofs.cluster_of(b));
         let alone = cluster.is_some_and(|c| dofs.cluster_range(c) == range);
@@ -249,8 +250,9 @@ mod tests {
     /// Which bodies give contact frames (`Site::role`): of four disks, a rigid one alone in its
     /// cluster gives frames (its first DOF and cluster); a deformable one (4 DOFs) and two rigid
     /// ones joined into one cluster (by a connector between bodies 2 and 3) give segments; a fixed
-    /// one has no column. A rigid body in a cluster of several is read by the assembly, not the
-    /// body form, so its contacts must not be frames (math note §3.3, "Frames beside segments").
+    /// one has no column. A rigid body in a cluster of several has no 3 × 3 K̃⁻¹ of its own, which
+    /// a frame reads, so its contacts must not be frames (math note §3.3, "Frames beside
+    /// segments").
     #[test]
     fn frames_only_for_rigid_bodies_alone_in_their_clusters() {
         let material = Material { name: "m".into(), density: 2.0, young: Some(1e8), poisson: Some(0.3) };
