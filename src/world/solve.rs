@@ -256,7 +256,7 @@ impl World {
             let product = gaps.is_some();
             let state = self.classify(found, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, None);
-            let dbar = self.geometry_increment(&rows, df, &z1, &dp, &state);
+            let dbar = self.geometry_increment(found, &rows, df, &z1, &dp, &state);
             let motions = self.motions(&found.reach, &dbar);
             let shapes = &mut runner.pipeline.shapes;
             let next = (refinements < MAX_REFINEMENTS)
@@ -366,10 +366,12 @@ impl World {
     }
 
     /// d̄ = d^f + K̃⁻¹ Bᵀ z + K̃⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
-    /// contacts' share doubled (math note §1.3 c), as a global DOF vector, from the response
+    /// contacts' share doubled (math note §1.3 c) on the bodies it does not drive into others
+    /// (§10.12, [`Self::hold_driven_bodies`]), as a global DOF vector, from the response
     /// `dp` = K̃⁻¹ Bᵀ z.
     pub(super) fn geometry_increment(
         &self,
+        found: &Detected,
         rows: &Rows,
         df: &[f64],
         z: &[f64],
@@ -378,10 +380,37 @@ impl World {
     ) -> Vec<f64> {
         let mut d: Vec<f64> = dp.iter().zip(df).map(|(x, f)| x + f).collect();
         if state.impacts {
-            let dimp = self.response(rows, z, Some(&state.impacting_rows));
+            let mut dimp = self.response(rows, z, Some(&state.impacting_rows));
+            self.hold_driven_bodies(found, rows, z, state, &mut dimp);
             d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);
         }
         d
+    }
+
+    /// Math note §10.12: the doubled share K̃⁻¹ B_impᵀ z_imp moves every contact's gap by
+    /// W z_imp (to first order). A contact that is not impacting and would end below
+    /// −allowance, G(z1) + W z_imp, has its bodies held where solve 1 put them: their part of
+    /// the share is dropped. So an impact into a body its other contacts hold (a jammed pile,
+    /// disks resting on a floor under a landing block) mirrors only the bodies that are free to
+    /// move, and an isolated impact is mirrored as before, bit for bit.
+    fn hold_driven_bodies(
+        &self,
+        found: &Detected,
+        rows: &Rows,
+        z: &[f64],
+        state: &Classified,
+        dimp: &mut [f64],
+    ) {
+        let impacting = &state.impacting_rows;
+        let zi: Vec<f64> = z.iter().zip(impacting).map(|(z, &i)| if i { *z } else { 0.0 }).collect();
+        let mut dg = vec![0.0; z.len()];
+        rows.w.apply(&zi, &mut dg);
+        for c in &found.brief {
+            let r = c.row();
+            if !impacting[r] && state.gaps[r] + dg[r] < -self.allowance {
+                c.bodies().iter().for_each(|&b| dimp[self.dofs.range(b)].fill(0.0));
+            }
+        }
     }
 
     /// K̃⁻¹ Bᵀ z over the rows `keep` selects, all of them with `None` (paper eq. 22: d^p = K⁻¹
