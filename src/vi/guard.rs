@@ -1,7 +1,8 @@
-//! The methods' hand-overs (math note §4.7, §4.8): NSGS to PC when its stall guard stops it;
-//! MPRGP to NSGS on W's entries and then to PC when its passes stop short of the tolerance.
+//! The methods' hand-overs (math note §4.7, §4.8, §4.12): NSGS to Lemke (on small Coulomb
+//! problems) and then PC when its stall guard stops it; MPRGP to NSGS on W's entries, then to
+//! Lemke and PC, when its passes stop short of the tolerance.
 
-use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, nsgs};
+use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, lemke, nsgs};
 
 impl Solver {
     pub(super) fn solve_nsgs(
@@ -31,8 +32,8 @@ impl Solver {
     /// MPRGP with the whole iteration budget; if it stops short of the tolerance before using it
     /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
     /// would report the same), NSGS from the caller's warm start on W's entries, and if its
-    /// stall guard stops it, PC from the warm start with what is left (math note §4.8, "MPRGP's
-    /// fallbacks").
+    /// stall guard stops it, Lemke's method on problems it takes (math note §4.12), then PC from
+    /// the warm start with what is left (math note §4.8, "MPRGP's fallbacks").
     pub(super) fn solve_mprgp(
         &mut self,
         p: &Problem,
@@ -62,6 +63,9 @@ impl Solver {
                 }
                 nsgs::End::Fallback { sweeps } => {
                     (spent, products) = (spent + sweeps, products + stats.products);
+                    if let Some(r2) = self.pivot(p, rule, z, opts, (r.outer_iterations, spent), products) {
+                        return r2;
+                    }
                     z.copy_from_slice(self.nsgs.warm_start());
                 }
             }
@@ -75,10 +79,11 @@ impl Solver {
         r2
     }
 
-    /// Stall guard (math note §4.7): PC from the NSGS iterate with half of what is left of
-    /// the iteration budget; if that fails, PC from the caller's warm start with the rest,
-    /// which is what `method = "pc"` would have run (a ray of an unbounded problem, say, is
-    /// judged against the warm start's scale, not against the grown NSGS iterate).
+    /// Stall guard (math note §4.7): Lemke's method on problems it takes (§4.12); else PC from
+    /// the NSGS iterate with half of what is left of the iteration budget; if that fails, PC
+    /// from the caller's warm start with the rest, which is what `method = "pc"` would have run
+    /// (a ray of an unbounded problem, say, is judged against the warm start's scale, not
+    /// against the grown NSGS iterate).
     fn fallback(
         &mut self,
         p: &Problem,
@@ -88,6 +93,9 @@ impl Solver {
         sweeps: usize,
     ) -> Report {
         let left = opts.max_iterations.saturating_sub(sweeps);
+        if let Some(r) = self.pivot(p, rule, z, &Options { max_iterations: left, ..*opts }, (0, 0), 0) {
+            return r;
+        }
         let first = Options { max_iterations: left / 2, ..*opts };
         let r = self.solve_pc(p, rule, z, &first, false);
         if r.converged {
@@ -101,6 +109,26 @@ impl Solver {
         r2.outer_iterations += r.outer_iterations;
         self.stats.products += products;
         r2
+    }
+
+    /// Lemke's method (math note §4.12) after the other methods, on problems it takes: the
+    /// report when it meets the tolerance, z then its answer, counting the passes and iterations
+    /// `before` it (one pass more, its pivots as iterations, within what is left of the budget)
+    /// and the products made before it; `None` otherwise, with z and the stats untouched.
+    fn pivot(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+        before: (usize, usize),
+        products: usize,
+    ) -> Option<Report> {
+        let budget = opts.max_iterations.saturating_sub(before.1);
+        let (pivots, residual) = lemke::solve(p, rule, z, opts, budget)?;
+        self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
+        let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
+        Some(Report { outer_iterations, inner_iterations, residual, converged: true })
     }
 }
 

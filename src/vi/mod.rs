@@ -110,6 +110,7 @@
 
 mod face;
 mod guard;
+mod lemke;
 mod local;
 mod measure;
 mod method;
@@ -325,6 +326,8 @@ pub struct Stats {
     pub fallbacks: usize,
     /// MPRGP's face solves (sparse factorizations of the free rows' block, math note §4.10).
     pub face_solves: usize,
+    /// Pivots of Lemke's method, the last resort after NSGS's stall (math note §4.12).
+    pub pivots: usize,
 }
 
 /// The solver with its workspace, reused across calls and steps: allocation only when a
