@@ -58,7 +58,8 @@
 //! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
 //! when it stalls; or the outer loop of PC with MPRGP (`mprgp.rs`, math note §4.8) as the
 //! inner solver of each pass, handed over when it fails to NSGS on W's entries and, if that
-//! stalls, to PC (math note §4.8, "MPRGP's fallbacks").
+//! stalls, to PC (math note §4.8, "MPRGP's fallbacks"). Before PC, a stalled NSGS on a small
+//! Coulomb problem hands over to Lemke's pivoting (`lemke.rs`, math note §4.12).
 //! [`Method::Auto`] runs MPRGP.
 //!
 //! # Performance
