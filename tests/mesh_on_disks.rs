@@ -18,6 +18,8 @@
 //! residual's tolerance, 1e-6 times the scene's feature length (at most the disks' radius, so
 //! 5e-7 m; math note §4.9), and two landings come before the second apex.
 
+mod common;
+
 use pbdda::generate::{DiskPile, PressedBlock};
 use pbdda::geometry::Vec2;
 use pbdda::model::{BodyModel, BodySpec, MeshShape, Shape};
@@ -39,16 +41,10 @@ fn meshed_block_lands_on_frictional_disks() {
     let mut world = World::new(model);
     let release = world.bodies.last().expect("the block").centroid.y;
     let mut heights = Vec::new();
-    for step in 0..29 {
-        let r = world.step().unwrap_or_else(|e| panic!("{e}"));
-        assert!(
-            r.converged && r.residual <= tolerance,
-            "step {step}: {} after {}",
-            r.residual,
-            r.inner_iterations
-        );
+    common::run(&mut world, 29, |world, r| {
+        common::assert_converged(r, tolerance);
         heights.push(world.bodies.last().expect("the block").centroid.y);
-    }
+    });
     for apex in [13, 27] {
         let is_top = heights[apex] > heights[apex - 1] && heights[apex] > heights[apex + 1];
         assert!(

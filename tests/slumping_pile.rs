@@ -17,6 +17,8 @@
 //! do not settle, and NSGS's stall guard gives up on plateaus. Those steps have exact
 //! solutions, which Lemke's method, the last resort on problems of this size, finds (§4.12).
 
+mod common;
+
 use pbdda::generate::DiskPile;
 use pbdda::model::Shape;
 use pbdda::world::World;
@@ -35,18 +37,12 @@ fn a_slumping_pile_converges_and_loses_energy() {
         |w: &World| -> f64 { w.bodies.iter().filter(|b| !b.fixed).map(|b| b.mass * g * b.centroid.y).sum() };
     let e0 = potential(&world);
     let mut kinetic_max = 0.0f64;
-    for step in 0..40 {
-        let r = world.step().unwrap_or_else(|e| panic!("{e}"));
-        assert!(
-            r.converged && r.residual <= tolerance,
-            "step {step}: {} after {}",
-            r.residual,
-            r.inner_iterations
-        );
-        let e = r.kinetic_energy + potential(&world);
+    common::run(&mut world, 40, |world, r| {
+        common::assert_converged(r, tolerance);
+        let e = r.kinetic_energy + potential(world);
         kinetic_max = kinetic_max.max(r.kinetic_energy);
-        assert!(e <= e0 * (1.0 + 1e-9), "step {step}: energy {e} J against {e0} J at release");
-    }
+        assert!(e <= e0 * (1.0 + 1e-9), "step {}: energy {e} J against {e0} J at release", r.step);
+    });
     // the pile did slump (largest kinetic energy 0.8 J here; the locked bench pile stays below
     // 1e-6 J), so the bound above was tested on moving disks
     assert!(kinetic_max > 0.1, "largest kinetic energy {kinetic_max} J");

@@ -38,6 +38,12 @@ pub fn run(world: &mut World, steps: usize, mut check: impl FnMut(&World, &StepR
     }
 }
 
+/// The step met the solver's tolerance (the scene's, `tolerance`).
+pub fn assert_converged(rec: &StepRecord, tolerance: f64) {
+    let (step, res, its) = (rec.step, rec.residual, rec.inner_iterations);
+    assert!(rec.converged && res <= tolerance, "step {step}: {res} after {its}");
+}
+
 /// The triangle wave of math note §7.3: position of a point moving at unit rate `s` in
 /// [-a, a] with elastic reflections.
 pub fn fold(s: f64, a: f64) -> f64 {
