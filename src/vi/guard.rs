@@ -20,7 +20,7 @@ impl Solver {
                 Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
             }
             nsgs::End::Fallback { sweeps } => {
-                let mut r = self.fallback(p, rule, z, opts, sweeps);
+                let mut r = self.fallback(w, p, rule, z, opts, sweeps);
                 r.inner_iterations += sweeps;
                 self.stats.products += stats.products;
                 self.stats.fallbacks = 1;
@@ -63,7 +63,7 @@ impl Solver {
                 }
                 nsgs::End::Fallback { sweeps } => {
                     (spent, products) = (spent + sweeps, products + stats.products);
-                    if let Some(r2) = self.pivot(p, rule, z, opts, (r.outer_iterations, spent), products) {
+                    if let Some(r2) = self.pivot(w, p, rule, z, opts, (r.outer_iterations, spent), products) {
                         return r2;
                     }
                     z.copy_from_slice(self.nsgs.warm_start());
@@ -86,6 +86,7 @@ impl Solver {
     /// against the grown NSGS iterate).
     fn fallback(
         &mut self,
+        w: sprs::CsMatView<f64>,
         p: &Problem,
         rule: &dyn BoundRule,
         z: &mut [f64],
@@ -93,7 +94,7 @@ impl Solver {
         sweeps: usize,
     ) -> Report {
         let left = opts.max_iterations.saturating_sub(sweeps);
-        if let Some(r) = self.pivot(p, rule, z, &Options { max_iterations: left, ..*opts }, (0, 0), 0) {
+        if let Some(r) = self.pivot(w, p, rule, z, &Options { max_iterations: left, ..*opts }, (0, 0), 0) {
             return r;
         }
         let first = Options { max_iterations: left / 2, ..*opts };
@@ -115,8 +116,10 @@ impl Solver {
     /// report when it meets the tolerance, z then its answer, counting the passes and iterations
     /// `before` it (one pass more, its pivots as iterations, within what is left of the budget)
     /// and the products made before it; `None` otherwise, with z and the stats untouched.
+    #[allow(clippy::too_many_arguments)]
     fn pivot(
         &mut self,
+        w: sprs::CsMatView<f64>,
         p: &Problem,
         rule: &dyn BoundRule,
         z: &mut [f64],
@@ -125,7 +128,7 @@ impl Solver {
         products: usize,
     ) -> Option<Report> {
         let budget = opts.max_iterations.saturating_sub(before.1);
-        let (pivots, residual) = lemke::solve(p, rule, z, opts, budget)?;
+        let (pivots, residual) = lemke::solve(w, p, rule, z, opts, budget)?;
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
         let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
         Some(Report { outer_iterations, inner_iterations, residual, converged: true })

@@ -24,6 +24,7 @@
 
 use super::measure::Measure;
 use super::{BoundRule, Options, Problem};
+use sprs::CsMatView;
 
 /// Largest LCP taken (variables; four per frictional contact of two rows, so 250 contacts):
 /// 8 MB of basis inverse and about 2 Mflop a pivot. A solve that fails costs at most
@@ -52,11 +53,12 @@ struct Lcp {
     sc: Vec<f64>,
 }
 
-/// Solves the problem by Lemke's method when it has the form above and at most [`MAX_VARS`]
-/// LCP variables, in at most `budget` pivots; z (overwritten only on success) gets the answer. Returns the pivots and
-/// the residual (math note §4.3, §4.9, with `rule`'s bounds at the answer) when that meets
+/// Solves the problem, W given as the CSR that NSGS swept, by Lemke's method when it has the
+/// form above and at most [`MAX_VARS`] LCP variables, in at most `budget` pivots; z
+/// (overwritten only on success) gets the answer. Returns the pivots and the residual (math note §4.3, §4.9, with `rule`'s bounds at the answer) when that meets
 /// `opts.tolerance`, `None` otherwise.
 pub(super) fn solve(
+    w: CsMatView<'_, f64>,
     p: &Problem,
     rule: &dyn BoundRule,
     z: &mut [f64],
@@ -64,7 +66,7 @@ pub(super) fn solve(
     budget: usize,
 ) -> Option<(usize, f64)> {
     let n = p.q.len();
-    let w = dense(p)?;
+    let w = dense(w)?;
     let lcp = Lcp::new(p, rule, &w, z)?;
     let mut pivots = 0;
     for k in 0..COVERINGS {
@@ -96,28 +98,20 @@ fn covering(i: usize, k: usize) -> f64 {
     0.5 + ((i as f64 + 1.0) * golden * k as f64).fract()
 }
 
-/// W dense (row-major n × n), from its CSR or its entries; `None` when it has neither, when
-/// it is too large for [`MAX_VARS`] at any block size, or when an entry is not finite.
-fn dense(p: &Problem) -> Option<Vec<f64>> {
-    let n = p.q.len();
+/// W dense (row-major n × n) from its CSR; `None` when it is too large for [`MAX_VARS`] at any
+/// block size or an entry is not finite.
+fn dense(w: CsMatView<'_, f64>) -> Option<Vec<f64>> {
+    let n = w.rows();
     if n > MAX_VARS {
         return None;
     }
-    let mut w = vec![0.0; n * n];
-    if let Some(csr) = p.w.as_csr() {
-        for (i, row) in csr.outer_iterator().enumerate() {
-            for (j, &v) in row.iter() {
-                w[i * n + j] += v;
-            }
+    let mut d = vec![0.0; n * n];
+    for (i, row) in w.outer_iterator().enumerate() {
+        for (j, &v) in row.iter() {
+            d[i * n + j] += v;
         }
-    } else {
-        let mut entries = Vec::new();
-        if !p.w.entries(&vec![true; n], &mut entries) {
-            return None;
-        }
-        entries.into_iter().for_each(|(i, j, v)| w[i * n + j] += v);
     }
-    w.iter().all(|v| v.is_finite()).then_some(w)
+    d.iter().all(|v| v.is_finite()).then_some(d)
 }
 
 impl Lcp {
@@ -363,7 +357,7 @@ mod tests {
             let mut z = vec![0.0; 2];
             let p = Problem { w: &w, q: &q, blocks: &[0, 2] };
             let (pivots, residual) =
-                super::solve(&p, &Coulomb(0.5, 0.0), &mut z, &opts, 100).expect("solved");
+                super::solve(w.view(), &p, &Coulomb(0.5, 0.0), &mut z, &opts, 100).expect("solved");
             assert!(residual <= 1e-12 && pivots > 0, "{q:?}: {residual} after {pivots}");
             assert!((z[0] - want[0]).abs() < 1e-12 && (z[1] - want[1]).abs() < 1e-12, "{z:?} vs {want:?}");
         }
@@ -375,7 +369,7 @@ mod tests {
         let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
         let mut z = vec![0.25, 0.0];
         let p = Problem { w: &w, q: &[-2.0, -0.2], blocks: &[0, 2] };
-        assert!(super::solve(&p, &Coulomb(0.5, 0.1), &mut z, &Options::default(), 100).is_none());
+        assert!(super::solve(w.view(), &p, &Coulomb(0.5, 0.1), &mut z, &Options::default(), 100).is_none());
         assert_eq!(z, [0.25, 0.0]);
     }
 }

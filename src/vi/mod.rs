@@ -323,7 +323,7 @@ pub struct Stats {
     pub products: usize,
     /// Rejected trial steps (beta shrinks).
     pub shrinks: usize,
-    /// NSGS or MPRGP runs handed over to PC by their guard (0 or 1).
+    /// NSGS or MPRGP runs handed over by their guard (to NSGS, Lemke or PC; 0 or 1).
     pub fallbacks: usize,
     /// MPRGP's face solves (sparse factorizations of the free rows' block, math note §4.10).
     pub face_solves: usize,
