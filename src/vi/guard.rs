@@ -19,6 +19,10 @@ impl Solver {
                 self.stats = stats;
                 Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
             }
+            nsgs::End::Exhausted { sweeps, residual } => {
+                self.stats = stats;
+                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: false }
+            }
             nsgs::End::Fallback { sweeps } => {
                 let mut r = self.fallback(w, p, rule, z, opts, sweeps);
                 r.inner_iterations += sweeps;
@@ -31,9 +35,10 @@ impl Solver {
 
     /// MPRGP with the whole iteration budget; if it stops short of the tolerance before using it
     /// up (the pass limit, or a stalled step: not on a divergent or non-finite problem, which PC
-    /// would report the same), NSGS from the caller's warm start on W's entries, and if its
-    /// stall guard stops it, Lemke's method on problems it takes (math note §4.12), then PC from
-    /// the warm start with what is left (math note §4.8, "MPRGP's fallbacks").
+    /// would report the same), NSGS from the caller's warm start on W's entries with what is
+    /// left (its answer kept if it uses that up), and if its stall guard stops it, Lemke's
+    /// method on problems it takes (math note §4.12), then PC from the warm start with the rest
+    /// (math note §4.8, "MPRGP's fallbacks").
     pub(super) fn solve_mprgp(
         &mut self,
         p: &Problem,
@@ -56,10 +61,11 @@ impl Solver {
             let mut stats = Stats::default();
             let budget = Options { max_iterations: opts.max_iterations - spent, ..*opts };
             match self.nsgs.run(w, p.q, p.blocks, rule, z, &budget, &mut stats) {
-                nsgs::End::Converged { sweeps, residual } => {
+                nsgs::End::Converged { sweeps, residual } | nsgs::End::Exhausted { sweeps, residual } => {
+                    let converged = stats.status == Status::Converged;
                     self.stats = Stats { products: products + stats.products, fallbacks: 1, ..stats };
                     let (outer_iterations, inner_iterations) = (r.outer_iterations + 1, spent + sweeps);
-                    return Report { outer_iterations, inner_iterations, residual, converged: true };
+                    return Report { outer_iterations, inner_iterations, residual, converged };
                 }
                 nsgs::End::Fallback { sweeps } => {
                     (spent, products) = (spent + sweeps, products + stats.products);

@@ -128,6 +128,8 @@ mod tests;
 mod tests_aim;
 #[cfg(test)]
 mod tests_mprgp;
+#[cfg(test)]
+mod tests_nsgs;
 
 pub use method::Method;
 pub use nsgs::STALL_SWEEPS;

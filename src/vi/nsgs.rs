@@ -3,7 +3,8 @@
 //! fixed, its bounds taken from the bound rule at the current iterate (so a joint partner's
 //! latest forces are seen at once, and no outer passes are needed). Every few sweeps the
 //! scaled natural residual of math note §4.3 is evaluated with the bounds of the current
-//! iterate: the same test and reported value as PC. A stall guard hands slow runs to PC.
+//! iterate: the same test and reported value as PC. A stall guard hands slow runs to PC; a
+//! run that uses up its budget keeps its iterate.
 
 // NaN-safe `!(a <= b)` tests.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -15,8 +16,13 @@ use sprs::CsMatView;
 
 /// Sweeps between residual checks once the first few are done.
 pub(super) const CHECK_EVERY: usize = 8;
-/// Stall guard: the residual must halve within this many sweeps, else PC takes over.
+/// Stall guard (math note §4.7): the residual must halve within this many sweeps, or within
+/// a [`STALL_SHARE`]th of the run's budget if that is more, else PC takes over.
 pub const STALL_SWEEPS: usize = 400;
+/// The share of its budget a run may spend on one plateau: NSGS on a pile that moves sits on
+/// plateaus of up to some 5,000 sweeps before a contact changes state and it converges
+/// (math note §4.8, "Piles that move: the stall guard").
+pub const STALL_SHARE: usize = 20;
 
 /// Work storage, reused across calls.
 #[derive(Debug, Clone, Default)]
@@ -33,9 +39,12 @@ pub(super) struct Work {
 pub(super) enum End {
     /// Residual at or below tolerance.
     Converged { sweeps: usize, residual: f64 },
-    /// Hand over to PC from the current z (stall, sweep cap, or a block it cannot solve);
-    /// z holds the iterate to warm-start from.
+    /// Hand over to PC from the current z (stall, or a block it cannot solve); z holds the
+    /// iterate to warm-start from.
     Fallback { sweeps: usize },
+    /// The budget is used up short of the tolerance: z holds the last iterate, of this
+    /// residual (nothing is left for another method to start from the warm start).
+    Exhausted { sweeps: usize, residual: f64 },
 }
 
 /// Can NSGS take this problem? Blocks of 1..=MAX rows with positive finite diagonals.
@@ -86,8 +95,9 @@ impl Work {
         // met converges
         let mut goal = Goal::new(tol, opts.aim * tol);
         let (mut sweeps, mut checks) = (0, 0);
+        let window = STALL_SWEEPS.max(cap / STALL_SHARE);
         loop {
-            if sweeps <= 4 || sweeps % CHECK_EVERY == 0 {
+            if sweeps <= 4 || sweeps % CHECK_EVERY == 0 || sweeps >= cap {
                 stats.products += 1;
                 let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z, measure);
                 if !res.is_finite() || zn > limit {
@@ -95,10 +105,14 @@ impl Work {
                     return End::Fallback { sweeps };
                 }
                 let met = res <= tol;
-                let stalled = res > 0.5 * ref_res && sweeps - ref_at >= STALL_SWEEPS;
+                let stalled = res > 0.5 * ref_res && sweeps - ref_at >= window;
                 if goal.reached(res, checks) || (met && (stalled || sweeps >= cap)) {
                     stats.status = Status::Converged;
                     return End::Converged { sweeps, residual: res };
+                }
+                if sweeps >= cap {
+                    stats.status = Status::IterationLimit;
+                    return End::Exhausted { sweeps, residual: res };
                 }
                 if res <= 0.5 * ref_res {
                     (ref_res, ref_at) = (res, sweeps);
@@ -106,9 +120,6 @@ impl Work {
                     return End::Fallback { sweeps };
                 }
                 checks += 1;
-            }
-            if sweeps >= cap {
-                return End::Fallback { sweeps };
             }
             stats.products += 1;
             self.sweep(indptr, cols, vals, q, blocks, rule, z);

@@ -491,64 +491,6 @@ fn matrix_free_closed_forms() {
     }
 }
 
-/// NSGS (math note §4.7) on the closed forms of `coulomb_stick_and_slide`: the same two
-/// solutions (stick (38/35, −12/35), slide (8/9, 4/9)), to 1e-9 as there. The test rule has no
-/// closed form, so this also exercises the fixed-box local solver.
-#[test]
-fn nsgs_coulomb_stick_and_slide() {
-    let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
-    for (q, want) in [([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]), ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0])] {
-        let mut z = vec![0.0, 0.0];
-        let mut ws = Solver::new().with_method(Method::Nsgs);
-        let rep =
-            ws.solve(&Problem { w: &w, q: &q, blocks: &[0, 2] }, &Friction(0.5), &mut z, &opts(1e-12, true));
-        assert!(rep.converged && rep.residual <= 1e-12, "{q:?}: {rep:?}");
-        assert!((z[0] - want[0]).abs() < 1e-9 && (z[1] - want[1]).abs() < 1e-9, "{q:?}: {z:?} vs {want:?}");
-        assert_eq!(ws.stats().fallbacks, 0, "solved by NSGS itself");
-    }
-}
-
-/// NSGS on the rays of `unbounded_rays_are_reported`: its growth test hands over to PC from
-/// the warm start, which reports Diverged with the warm start restored.
-#[test]
-fn nsgs_unbounded_rays_are_reported() {
-    let cases = [
-        ([1.0, -1.0, -1.0, 1.0], [-1.0, -1.0], [0.0, 0.0]),
-        ([1.0, 1.0, 1.0, 1.0], [1.0, -1.0], [-INF, -INF]),
-    ];
-    for (dense, q, lo) in cases {
-        let w = csr(2, &dense);
-        let mut ws = Solver::new().with_method(Method::Nsgs);
-        let mut z = vec![0.0; 2];
-        let rule = FixedBounds { lo: lo.to_vec(), hi: vec![INF, INF] };
-        let rep =
-            ws.solve(&Problem { w: &w, q: &q, blocks: &singles(2) }, &rule, &mut z, &Options::default());
-        assert!(!rep.converged && ws.stats().status == Status::Diverged, "{rep:?} {:?}", ws.stats());
-        assert_eq!(z, vec![0.0, 0.0]);
-    }
-}
-
-/// NSGS on the diagonal W = diag(1..6), q = −1, z >= 0 with blocks [0, 2, 3, 6] (the 3-row
-/// block takes the box enumeration): one sweep solves a diagonal W exactly, z_j = 1/j; the
-/// reported residual is the §4.3 residual (below 1e-12).
-#[test]
-fn nsgs_exact_on_diagonal_w() {
-    let mut dense = vec![0.0; 36];
-    for j in 0..6 {
-        dense[7 * j] = (j + 1) as f64;
-    }
-    let w = csr(6, &dense);
-    let rule = FixedBounds { lo: vec![0.0; 6], hi: vec![INF; 6] };
-    let mut z = vec![0.0; 6];
-    let mut ws = Solver::new().with_method(Method::Nsgs);
-    let rep =
-        ws.solve(&Problem { w: &w, q: &[-1.0; 6], blocks: &[0, 2, 3, 6] }, &rule, &mut z, &opts(1e-12, true));
-    assert!(rep.converged && rep.inner_iterations == 1 && rep.residual <= 1e-12, "{rep:?}");
-    for (j, zj) in z.iter().enumerate() {
-        assert!((zj - 1.0 / (j + 1) as f64).abs() < 1e-14, "{z:?}");
-    }
-}
-
 /// The gap part of the residual (math note §4.9). Two independent normal rows: a heavy
 /// contact, W = 1e-19 m/N with q = −5e-4 m (solution 5e15 N), and a light one, W = 1e-7 m/N
 /// with q = −5e-4 m (solution 5e3 N). From the heavy force and nothing on the light row, the
