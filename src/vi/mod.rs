@@ -132,7 +132,7 @@ mod tests_mprgp;
 mod tests_nsgs;
 
 pub use method::Method;
-pub use nsgs::STALL_SWEEPS;
+pub use nsgs::{STALL_SHARE, STALL_SWEEPS};
 pub use operator::Operator;
 pub use par::all_bounds_in_halves;
 
