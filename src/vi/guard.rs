@@ -15,13 +15,9 @@ impl Solver {
     ) -> Report {
         let mut stats = Stats::default();
         match self.nsgs.run(w, p.q, p.blocks, rule, z, opts, &mut stats) {
-            nsgs::End::Converged { sweeps, residual } => {
+            nsgs::End::Done { sweeps, residual, converged } => {
                 self.stats = stats;
-                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: true }
-            }
-            nsgs::End::Exhausted { sweeps, residual } => {
-                self.stats = stats;
-                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged: false }
+                Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged }
             }
             nsgs::End::Fallback { sweeps } => {
                 let mut r = self.fallback(w, p, rule, z, opts, sweeps);
@@ -61,8 +57,7 @@ impl Solver {
             let mut stats = Stats::default();
             let budget = Options { max_iterations: opts.max_iterations - spent, ..*opts };
             match self.nsgs.run(w, p.q, p.blocks, rule, z, &budget, &mut stats) {
-                nsgs::End::Converged { sweeps, residual } | nsgs::End::Exhausted { sweeps, residual } => {
-                    let converged = stats.status == Status::Converged;
+                nsgs::End::Done { sweeps, residual, converged } => {
                     self.stats = Stats { products: products + stats.products, fallbacks: 1, ..stats };
                     let (outer_iterations, inner_iterations) = (r.outer_iterations + 1, spent + sweeps);
                     return Report { outer_iterations, inner_iterations, residual, converged };
@@ -134,7 +129,9 @@ impl Solver {
         products: usize,
     ) -> Option<Report> {
         let budget = opts.max_iterations.saturating_sub(before.1);
-        let (pivots, residual) = lemke::solve(w, p, rule, z, opts, budget)?;
+        let nsgs = &mut self.nsgs;
+        let mut measure = |x: &[f64]| nsgs.measure(w, (p.q, p.blocks), rule, x, opts);
+        let (pivots, residual) = lemke::solve(w, p, rule, z, (opts.tolerance, budget), &mut measure)?;
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
         let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
         Some(Report { outer_iterations, inner_iterations, residual, converged: true })

@@ -22,8 +22,7 @@
 // Dense index loops over rows and columns of the same matrices.
 #![allow(clippy::needless_range_loop)]
 
-use super::measure::Measure;
-use super::{BoundRule, Options, Problem};
+use super::{BoundRule, Problem};
 use sprs::CsMatView;
 
 /// Largest LCP taken (variables; four per frictional contact of two rows, so 250 contacts):
@@ -55,15 +54,15 @@ struct Lcp {
 
 /// Solves the problem, W given as the CSR that NSGS swept, by Lemke's method when it has the
 /// form above and at most [`MAX_VARS`] LCP variables, in at most `budget` pivots; z
-/// (overwritten only on success) gets the answer. Returns the pivots and the residual (math note §4.3, §4.9, with `rule`'s bounds at the answer) when that meets
-/// `opts.tolerance`, `None` otherwise.
+/// (overwritten only on success) gets the answer. Returns the pivots and the residual
+/// (`measure`: NSGS's, math note §4.3, §4.9) when that meets `tolerance`, `None` otherwise.
 pub(super) fn solve(
     w: CsMatView<'_, f64>,
     p: &Problem,
     rule: &dyn BoundRule,
     z: &mut [f64],
-    opts: &Options,
-    budget: usize,
+    (tolerance, budget): (f64, usize),
+    measure: &mut dyn FnMut(&[f64]) -> f64,
 ) -> Option<(usize, f64)> {
     let n = p.q.len();
     let w = dense(w)?;
@@ -79,8 +78,8 @@ pub(super) fn solve(
         pivots += used;
         let Some(x) = x else { continue };
         let answer = lcp.answer(&x, n);
-        let residual = residual(p, rule, &w, &answer, opts);
-        if residual <= opts.tolerance {
+        let residual = measure(&answer);
+        if residual <= tolerance {
             z.copy_from_slice(&answer);
             return Some((pivots, residual));
         }
@@ -191,24 +190,6 @@ impl Lcp {
             })
             .collect()
     }
-}
-
-/// The residual of math note §4.3 (with §4.9's gap part) of z, W dense.
-fn residual(p: &Problem, rule: &dyn BoundRule, w: &[f64], z: &[f64], opts: &Options) -> f64 {
-    let n = z.len();
-    let (mut lo, mut hi) = (vec![0.0; n], vec![0.0; n]);
-    rule.all_bounds(p.blocks, z, &mut lo, &mut hi);
-    let measure = Measure::new(opts);
-    let (mut force, mut gap) = (0.0f64, 0.0f64);
-    for r in 0..n {
-        let g = p.q[r] + (0..n).map(|c| w[r * n + c] * z[c]).sum::<f64>();
-        let d = w[r * n + r];
-        let (f, gp) = measure.row(z[r], g / d, lo[r], hi[r], d);
-        (force, gap) = (force.max(f), gap.max(gp));
-    }
-    let znorm = z.iter().fold(0.0f64, |s, v| s.max(v.abs()));
-    let res = Measure::combine(force, gap, znorm);
-    if res.is_finite() { res } else { f64::INFINITY }
 }
 
 /// Lemke's method with covering vector d (> 0) and at most `cap` pivots: x and the pivots
@@ -335,7 +316,22 @@ mod tests {
     //! q = (−2, −2): z = (8/9, 4/9) = (z_n, μ z_n). Pivoting is exact up to rounding on a
     //! 4-variable LCP, so 1e-12.
     use super::super::tests::csr;
-    use super::super::{BlockLaw, BoundRule, Options, Problem};
+    use super::super::{BlockLaw, BoundRule, Options, Problem, nsgs};
+    use sprs::CsMat;
+
+    /// Lemke on the problem with NSGS's measure (as the hand-overs run it), tolerance `tol`.
+    fn solve(
+        w: &CsMat<f64>,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        tol: f64,
+    ) -> Option<(usize, f64)> {
+        let opts = Options { tolerance: tol, ..Options::default() };
+        let mut work = nsgs::Work::default();
+        let mut measure = |x: &[f64]| work.measure(w.view(), (p.q, p.blocks), rule, x, &opts);
+        super::solve(w.view(), p, rule, z, (tol, 100), &mut measure)
+    }
 
     struct Coulomb(f64, f64);
     impl BoundRule for Coulomb {
@@ -351,13 +347,11 @@ mod tests {
     #[test]
     fn lemke_stick_and_slide() {
         let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
-        let opts = Options { tolerance: 1e-12, ..Options::default() };
         for (q, want) in [([-2.0, -0.2], [38.0 / 35.0, -12.0 / 35.0]), ([-2.0, -2.0], [8.0 / 9.0, 4.0 / 9.0])]
         {
             let mut z = vec![0.0; 2];
             let p = Problem { w: &w, q: &q, blocks: &[0, 2] };
-            let (pivots, residual) =
-                super::solve(w.view(), &p, &Coulomb(0.5, 0.0), &mut z, &opts, 100).expect("solved");
+            let (pivots, residual) = solve(&w, &p, &Coulomb(0.5, 0.0), &mut z, 1e-12).expect("solved");
             assert!(residual <= 1e-12 && pivots > 0, "{q:?}: {residual} after {pivots}");
             assert!((z[0] - want[0]).abs() < 1e-12 && (z[1] - want[1]).abs() < 1e-12, "{z:?} vs {want:?}");
         }
@@ -369,7 +363,7 @@ mod tests {
         let w = csr(2, &[2.0, 0.5, 0.5, 1.0]);
         let mut z = vec![0.25, 0.0];
         let p = Problem { w: &w, q: &[-2.0, -0.2], blocks: &[0, 2] };
-        assert!(super::solve(w.view(), &p, &Coulomb(0.5, 0.1), &mut z, &Options::default(), 100).is_none());
+        assert!(solve(&w, &p, &Coulomb(0.5, 0.1), &mut z, Options::default().tolerance).is_none());
         assert_eq!(z, [0.25, 0.0]);
     }
 }

@@ -37,14 +37,13 @@ pub(super) struct Work {
 
 /// How an NSGS run ended.
 pub(super) enum End {
-    /// Residual at or below tolerance.
-    Converged { sweeps: usize, residual: f64 },
+    /// The residual met the tolerance (`converged`), or the budget is used up short of it:
+    /// z holds the last iterate, of this residual (nothing is left for another method to
+    /// start from the warm start).
+    Done { sweeps: usize, residual: f64, converged: bool },
     /// Hand over to PC from the current z (stall, or a block it cannot solve); z holds the
     /// iterate to warm-start from.
     Fallback { sweeps: usize },
-    /// The budget is used up short of the tolerance: z holds the last iterate, of this
-    /// residual (nothing is left for another method to start from the warm start).
-    Exhausted { sweeps: usize, residual: f64 },
 }
 
 /// Can NSGS take this problem? Blocks of 1..=MAX rows with positive finite diagonals.
@@ -108,11 +107,11 @@ impl Work {
                 let stalled = res > 0.5 * ref_res && sweeps - ref_at >= window;
                 if goal.reached(res, checks) || (met && (stalled || sweeps >= cap)) {
                     stats.status = Status::Converged;
-                    return End::Converged { sweeps, residual: res };
+                    return End::Done { sweeps, residual: res, converged: true };
                 }
                 if sweeps >= cap {
                     stats.status = Status::IterationLimit;
-                    return End::Exhausted { sweeps, residual: res };
+                    return End::Done { sweeps, residual: res, converged: false };
                 }
                 if res <= 0.5 * ref_res {
                     (ref_res, ref_at) = (res, sweeps);
@@ -125,6 +124,28 @@ impl Work {
             self.sweep(indptr, cols, vals, q, blocks, rule, z);
             sweeps += 1;
         }
+    }
+
+    /// The residual of `run` (math note §4.3, with §4.9's gap part; the bounds of z) of an
+    /// answer found by other means (Lemke's, math note §4.12), W the CSR a run was set up
+    /// with; +inf when its storage does not fit the problem or the measure is not finite.
+    pub fn measure(
+        &mut self,
+        w: CsMatView<'_, f64>,
+        (q, blocks): (&[f64], &[usize]),
+        rule: &dyn BoundRule,
+        z: &[f64],
+        opts: &Options,
+    ) -> f64 {
+        let n = q.len();
+        let indptr = w.indptr();
+        let indptr = indptr.as_slice().unwrap_or(&[]);
+        if indptr.len() != n + 1 {
+            return f64::INFINITY;
+        }
+        self.lo.resize(n, 0.0);
+        self.hi.resize(n, 0.0);
+        self.residual(indptr, w.indices(), w.data(), q, blocks, rule, z, Measure::new(opts)).0
     }
 
     /// Extracts the diagonal blocks; false when a block has a non-positive or non-finite
