@@ -19,7 +19,9 @@ impl Solver {
                 self.stats = stats;
                 Report { outer_iterations: 1, inner_iterations: sweeps, residual, converged }
             }
-            nsgs::End::Fallback { sweeps } => {
+            nsgs::End::Fallback { sweeps, residual } => {
+                self.best.start();
+                self.best.offer(residual, z);
                 let mut r = self.fallback(w, p, rule, z, opts, sweeps);
                 r.inner_iterations += sweeps;
                 self.stats.products += stats.products;
@@ -49,6 +51,8 @@ impl Solver {
             return r;
         }
         let (mut spent, mut products) = (r.inner_iterations, self.stats.products);
+        self.best.start();
+        self.best.offer_run(&r, self.stats.status, z);
         // the caller's warm start, which the run kept (it reaches here only past its setup)
         z.copy_from_slice(&self.vectors.z0);
         let owned = p.w.as_csr().is_none().then(|| from_entries(p)).flatten();
@@ -60,9 +64,12 @@ impl Solver {
                 nsgs::End::Done { sweeps, residual, converged } => {
                     self.stats = Stats { products: products + stats.products, fallbacks: 1, ..stats };
                     let (outer_iterations, inner_iterations) = (r.outer_iterations + 1, spent + sweeps);
-                    return Report { outer_iterations, inner_iterations, residual, converged };
+                    let mut r2 = Report { outer_iterations, inner_iterations, residual, converged };
+                    self.best.keep(&mut r2, self.stats.status, z);
+                    return r2;
                 }
-                nsgs::End::Fallback { sweeps } => {
+                nsgs::End::Fallback { sweeps, residual } => {
+                    self.best.offer(residual, z);
                     (spent, products) = (spent + sweeps, products + stats.products);
                     if let Some(r2) = self.pivot(w, p, rule, z, opts, (r.outer_iterations, spent), products) {
                         return r2;
@@ -77,6 +84,7 @@ impl Solver {
         r2.outer_iterations += r.outer_iterations;
         self.stats.products += products;
         self.stats.fallbacks = 1;
+        self.best.keep(&mut r2, self.stats.status, z);
         r2
     }
 
@@ -103,6 +111,7 @@ impl Solver {
         if r.converged {
             return r;
         }
+        self.best.offer_run(&r, self.stats.status, z);
         let products = self.stats.products;
         z.copy_from_slice(self.nsgs.warm_start());
         let rest = Options { max_iterations: left - r.inner_iterations.min(left), ..*opts };
@@ -110,6 +119,7 @@ impl Solver {
         r2.inner_iterations += r.inner_iterations;
         r2.outer_iterations += r.outer_iterations;
         self.stats.products += products;
+        self.best.keep(&mut r2, self.stats.status, z);
         r2
     }
 
@@ -129,8 +139,8 @@ impl Solver {
         products: usize,
     ) -> Option<Report> {
         let budget = opts.max_iterations.saturating_sub(before.1);
-        let nsgs = &mut self.nsgs;
-        let mut measure = |x: &[f64]| nsgs.measure(w, (p.q, p.blocks), rule, x, opts);
+        let check = &mut self.check;
+        let mut measure = |x: &[f64]| check.residual(p, rule, x, opts);
         let (pivots, residual) = lemke::solve(w, p, rule, z, (opts.tolerance, budget), &mut measure)?;
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
         let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
@@ -149,4 +159,53 @@ fn from_entries(p: &Problem) -> Option<sprs::CsMat<f64>> {
     let mut w = sprs::TriMat::with_capacity((n, n), entries.len());
     entries.into_iter().for_each(|(i, j, v)| w.add_triplet(i, j, v));
     Some(w.to_csr())
+}
+
+/// The answer of smallest residual a chain of methods has reached (math note §4.7, "The best
+/// answer of a failed chain"). A method that hands over leaves an iterate the next one may
+/// not improve on: on the 1,000-disk slump's wall strike (§4.8) NSGS stalls at 5.4e-4 and PC,
+/// started afresh, ends at 4.3e-3. A chain that ends unconverged returns the best of them.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Best {
+    residual: f64,
+    z: Vec<f64>,
+}
+
+impl Best {
+    /// Forgets the last chain's answer (no allocation: the storage is kept).
+    pub fn start(&mut self) {
+        self.residual = f64::INFINITY;
+    }
+
+    /// Keeps z if its residual is smaller than the best so far (not NaN).
+    pub fn offer(&mut self, residual: f64, z: &[f64]) {
+        if residual < self.residual {
+            self.residual = residual;
+            self.z.clear();
+            self.z.extend_from_slice(z);
+        }
+    }
+
+    /// Offers a run's answer if it is an iterate ([`kept_iterate`]).
+    pub fn offer_run(&mut self, r: &Report, status: Status, z: &[f64]) {
+        if kept_iterate(status) {
+            self.offer(r.residual, z);
+        }
+    }
+
+    /// Ends the chain: an unconverged answer that is an iterate gives way to the best one if
+    /// that has a smaller residual (z and the report's residual then are the best one's).
+    pub fn keep(&self, r: &mut Report, status: Status, z: &mut [f64]) {
+        if !r.converged && kept_iterate(status) && self.residual < r.residual && self.z.len() == z.len() {
+            z.copy_from_slice(&self.z);
+            r.residual = self.residual;
+        }
+    }
+}
+
+/// Statuses whose z is an unconverged iterate of the problem: not the warm start handed back
+/// with a diverged or non-finite problem, nor an answer to invalid bounds or input, which must
+/// stay as the status describes them.
+pub(super) fn kept_iterate(status: Status) -> bool {
+    matches!(status, Status::IterationLimit | Status::OuterLimit | Status::Stalled)
 }

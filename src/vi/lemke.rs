@@ -55,7 +55,8 @@ struct Lcp {
 /// Solves the problem, W given as the CSR that NSGS swept, by Lemke's method when it has the
 /// form above and at most [`MAX_VARS`] LCP variables, in at most `budget` pivots; z
 /// (overwritten only on success) gets the answer. Returns the pivots and the residual
-/// (`measure`: NSGS's, math note §4.3, §4.9) when that meets `tolerance`, `None` otherwise.
+/// (`measure`: the solver's measure of an answer, `measure::Check`, math note §4.3, §4.9) when
+/// that meets `tolerance`, `None` otherwise.
 pub(super) fn solve(
     w: CsMatView<'_, f64>,
     p: &Problem,
@@ -316,10 +317,11 @@ mod tests {
     //! q = (−2, −2): z = (8/9, 4/9) = (z_n, μ z_n). Pivoting is exact up to rounding on a
     //! 4-variable LCP, so 1e-12.
     use super::super::tests::csr;
-    use super::super::{BlockLaw, BoundRule, Options, Problem, nsgs};
+    use super::super::{BlockLaw, BoundRule, Options, Problem, measure};
     use sprs::CsMat;
 
-    /// Lemke on the problem with NSGS's measure (as the hand-overs run it), tolerance `tol`.
+    /// Lemke on the problem with the solver's measure of an answer (as the hand-overs run it),
+    /// tolerance `tol`.
     fn solve(
         w: &CsMat<f64>,
         p: &Problem,
@@ -328,8 +330,8 @@ mod tests {
         tol: f64,
     ) -> Option<(usize, f64)> {
         let opts = Options { tolerance: tol, ..Options::default() };
-        let mut work = nsgs::Work::default();
-        let mut measure = |x: &[f64]| work.measure(w.view(), (p.q, p.blocks), rule, x, &opts);
+        let mut check = measure::Check::default();
+        let mut measure = |x: &[f64]| check.residual(p, rule, x, &opts);
         super::solve(w.view(), p, rule, z, (tol, 100), &mut measure)
     }
 

@@ -127,6 +127,8 @@ mod tests;
 #[cfg(test)]
 mod tests_aim;
 #[cfg(test)]
+mod tests_chain;
+#[cfg(test)]
 mod tests_mprgp;
 #[cfg(test)]
 mod tests_nsgs;
@@ -361,6 +363,10 @@ pub struct Solver {
     /// proportioning test (`mprgp::StepLength`).
     step_length: Option<f64>,
     nsgs: nsgs::Work,
+    /// The best answer of the methods' hand-overs (`guard.rs`).
+    best: guard::Best,
+    /// Storage of the residual of unconverged answers (`measure.rs`).
+    check: measure::Check,
     scaling: scaling::Scaling,
     vectors: pc::Vectors,
 }
@@ -382,6 +388,8 @@ impl Solver {
             exact: false,
             step_length: None,
             nsgs: nsgs::Work::default(),
+            best: guard::Best::default(),
+            check: measure::Check::default(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
         }
@@ -501,7 +509,13 @@ impl Solver {
         }
         self.stats = st.stats;
         self.exact = report.converged && st.exact();
-        report
+        // an unconverged answer is measured on its own (math note §4.3): the passes measure
+        // their iterate against the box of the pass's start, and unscale it into that box
+        let residual = match guard::kept_iterate(self.stats.status) {
+            true => self.check.residual(p, rule, z, opts),
+            false => report.residual,
+        };
+        Report { residual, ..report }
     }
 
     fn invalid_input(&mut self) -> Report {

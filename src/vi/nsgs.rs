@@ -42,8 +42,9 @@ pub(super) enum End {
     /// start from the warm start).
     Done { sweeps: usize, residual: f64, converged: bool },
     /// Hand over to PC from the current z (stall, or a block it cannot solve); z holds the
-    /// iterate to warm-start from.
-    Fallback { sweeps: usize },
+    /// iterate to warm-start from, of this residual (+inf when it was not measured or z is
+    /// the warm start again).
+    Fallback { sweeps: usize, residual: f64 },
 }
 
 /// Can NSGS take this problem? Blocks of 1..=MAX rows with positive finite diagonals.
@@ -75,12 +76,12 @@ impl Work {
         self.z0.clear();
         self.z0.extend_from_slice(z);
         if !self.setup(w, blocks, n) {
-            return End::Fallback { sweeps: 0 };
+            return End::Fallback { sweeps: 0, residual: f64::INFINITY };
         }
         let (indptr, cols, vals) = (w.indptr(), w.indices(), w.data());
         let indptr = indptr.as_slice().unwrap_or(&[]);
         if indptr.len() != n + 1 {
-            return End::Fallback { sweeps: 0 };
+            return End::Fallback { sweeps: 0, residual: f64::INFINITY };
         }
         let cap = opts.max_iterations;
         // Growth test as in PC (module docs of `vi`): iterates beyond growth * S run along a
@@ -101,7 +102,7 @@ impl Work {
                 let (res, zn) = self.residual(indptr, cols, vals, q, blocks, rule, z, measure);
                 if !res.is_finite() || zn > limit {
                     z.copy_from_slice(&self.z0);
-                    return End::Fallback { sweeps };
+                    return End::Fallback { sweeps, residual: f64::INFINITY };
                 }
                 let met = res <= tol;
                 let stalled = res > 0.5 * ref_res && sweeps - ref_at >= window;
@@ -116,7 +117,7 @@ impl Work {
                 if res <= 0.5 * ref_res {
                     (ref_res, ref_at) = (res, sweeps);
                 } else if stalled {
-                    return End::Fallback { sweeps };
+                    return End::Fallback { sweeps, residual: res };
                 }
                 checks += 1;
             }
@@ -124,28 +125,6 @@ impl Work {
             self.sweep(indptr, cols, vals, q, blocks, rule, z);
             sweeps += 1;
         }
-    }
-
-    /// The residual of `run` (math note §4.3, with §4.9's gap part; the bounds of z) of an
-    /// answer found by other means (Lemke's, math note §4.12), W the CSR a run was set up
-    /// with; +inf when its storage does not fit the problem or the measure is not finite.
-    pub fn measure(
-        &mut self,
-        w: CsMatView<'_, f64>,
-        (q, blocks): (&[f64], &[usize]),
-        rule: &dyn BoundRule,
-        z: &[f64],
-        opts: &Options,
-    ) -> f64 {
-        let n = q.len();
-        let indptr = w.indptr();
-        let indptr = indptr.as_slice().unwrap_or(&[]);
-        if indptr.len() != n + 1 {
-            return f64::INFINITY;
-        }
-        self.lo.resize(n, 0.0);
-        self.hi.resize(n, 0.0);
-        self.residual(indptr, w.indices(), w.data(), q, blocks, rule, z, Measure::new(opts)).0
     }
 
     /// Extracts the diagonal blocks; false when a block has a non-positive or non-finite

@@ -3,8 +3,11 @@
 //! solver's own residual sequence on the 1-D Laplacian chain of `tests_mprgp.rs` (every row
 //! free, so each method's iterates do not depend on the tolerance): r_k, the residual after k
 //! iterations, is read from runs capped at k with tolerance 0. Matrix-free W, so that MPRGP
-//! makes no face solve, whose schedule depends on the tolerance. The comparisons are of the
-//! same floating-point sequence, so they are exact.
+//! makes no face solve, whose schedule depends on the tolerance. The iterates are the same
+//! floating-point sequence in every run, so the stops compare exactly; the residuals compare
+//! to 1e-12 relative, because a capped run, unconverged, reports its answer's residual measured
+//! on its own from an unscaled product (math note §4.3), where a run that stops measured it in
+//! its scaled sweep: the same number to rounding.
 
 use super::tests::{MatrixFree, opts, singles};
 use super::tests_mprgp::laplacian;
@@ -43,7 +46,7 @@ fn expected_stop(r: &[f64], tol: f64, aim: f64) -> usize {
 
 /// For PC and MPRGP, tolerances placed on the sequence so that its first iterate within the
 /// tolerance lies above the aim (one more iteration) and, for MPRGP, below it (none): the solve stops
-/// where `expected_stop` says, with that iterate's residual bit for bit; with aim 1 it stops
+/// where `expected_stop` says, with that iterate's residual (to rounding); with aim 1 it stops
 /// at the first iterate within the tolerance. A budget that ends between the aim and the
 /// tolerance still converges.
 #[test]
@@ -69,7 +72,8 @@ fn a_solve_that_iterates_stops_at_the_aim_or_one_iteration_past_the_tolerance() 
                 let (rep, _) = run(method, &Options { aim, ..opts(tol, true) });
                 assert!(rep.converged, "{method:?} f {f} aim {aim}: {rep:?}");
                 assert_eq!(rep.inner_iterations, stop, "{method:?} f {f} aim {aim}");
-                assert_eq!(rep.residual.to_bits(), r[stop].to_bits(), "{method:?} f {f} aim {aim}");
+                let same = (rep.residual - r[stop]).abs() <= 1e-12 * r[stop];
+                assert!(same, "{method:?} f {f} aim {aim}: {} against {}", rep.residual, r[stop]);
             }
             // the budget ends at the first iterate within the tolerance, above the aim
             let capped = Options { max_iterations: j, ..opts(tol, true) };

@@ -114,7 +114,10 @@ fn mprgp_reports_rays_and_nan() {
 /// hand-over's answer is, bit for bit, that of NSGS alone from the same warm start, not from
 /// MPRGP's iterate. (c) The same problem behind a matrix-free W (`MatrixFree`, no entries for
 /// NSGS to sweep): PC takes over from the warm start and stops after its one pass too:
-/// OuterLimit, one hand-over, 2 passes; from (0.5, 0.1) bit for bit PC alone's answer.
+/// OuterLimit, one hand-over, 2 passes; from (0.5, 0.1) PC alone's answer, (15/16, 1/4), to
+/// rounding (1e-12), and no worse by the residual: the chain returns the better of MPRGP's
+/// pass and PC's answer (math note §4.7, "The best answer of a failed chain"), here MPRGP's,
+/// which is exact where PC's is 1.3e-13 off.
 #[test]
 fn mprgp_guard() {
     let w = csr(2, &[1.0, 0.999, 0.999, 1.0]);
@@ -153,10 +156,12 @@ fn mprgp_guard() {
     assert!(!rep.converged && st.status == Status::OuterLimit && st.fallbacks == 1, "{rep:?} {st:?}");
     assert_eq!(rep.outer_iterations, 2);
     let (mut z, mut z_pc) = (vec![0.5, 0.1], vec![0.5, 0.1]);
-    assert_eq!(ws.solve(&p, &Friction(0.5), &mut z, &o).outer_iterations, 2);
+    let chain = ws.solve(&p, &Friction(0.5), &mut z, &o);
+    assert_eq!(chain.outer_iterations, 2);
     let pc = Solver::new().with_method(Method::Pc).solve(&p, &Friction(0.5), &mut z_pc, &o);
     assert_eq!(pc.outer_iterations, 1);
-    assert_eq!(z, z_pc);
+    assert!(chain.residual <= pc.residual, "{chain:?} {pc:?}");
+    assert!(z.iter().zip(&z_pc).all(|(a, b)| (a - b).abs() <= 1e-12), "{z:?} {z_pc:?}");
 }
 
 /// Face solves (math note §4.10) on the 1-D Laplacian W = tridiag(−1, 2, −1) of order 400 with
