@@ -280,6 +280,10 @@ impl Operator for ContactOperator {
         true
     }
 
+    fn has_entries(&self) -> bool {
+        self.factored.is_empty()
+    }
+
     /// Not with factored clusters (their entries would take a solve per row).
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
         if !self.factored.is_empty() || !self.explicit.entries(keep, out) {

@@ -133,6 +133,7 @@ mod tests_mprgp;
 #[cfg(test)]
 mod tests_nsgs;
 
+pub use guard::HANDOVER_SHARE;
 pub use method::Method;
 pub use nsgs::{STALL_SHARE, STALL_SWEEPS};
 pub use operator::Operator;

@@ -30,6 +30,10 @@ pub trait Operator: Sync {
     fn entries(&self, _keep: &[bool], _out: &mut Vec<(usize, usize, f64)>) -> bool {
         false
     }
+    /// Whether [`Self::entries`] gives W's entries, without making them (the default: no).
+    fn has_entries(&self) -> bool {
+        false
+    }
 }
 
 /// W stored explicitly with both triangles. CSC storage is accepted too: [`Operator::as_csr`]
@@ -56,6 +60,9 @@ impl Operator for CsMat<f64> {
         entries_view(self.view(), keep, out);
         true
     }
+    fn has_entries(&self) -> bool {
+        true
+    }
 }
 
 /// A borrowed explicit W (see the impl for [`CsMat`]).
@@ -78,6 +85,9 @@ impl Operator for CsMatView<'_, f64> {
     }
     fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
         entries_view(self.view(), keep, out);
+        true
+    }
+    fn has_entries(&self) -> bool {
         true
     }
 }
