@@ -50,11 +50,11 @@ impl Solver {
         z: &mut [f64],
         opts: &Options,
     ) -> Report {
-        let kept = match p.w.as_csr().is_some() || p.w.has_entries() {
+        let reserve = match p.w.as_csr().is_some() || p.w.has_entries() {
             true => opts.max_iterations / HANDOVER_SHARE,
             false => 0,
         };
-        let share = Options { max_iterations: opts.max_iterations - kept, ..*opts };
+        let share = Options { max_iterations: opts.max_iterations - reserve, ..*opts };
         let r = self.solve_pc(p, rule, z, &share, true);
         let hopeless =
             matches!(self.stats.status, Status::Diverged | Status::NonFinite | Status::InvalidInput);

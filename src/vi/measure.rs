@@ -52,6 +52,34 @@ impl Measure {
     }
 }
 
+/// The running maxima of the measure over the rows (force part, gap part, ||z||_inf) with a
+/// detector of NaN and infinity: the loop body of the whole-vector measures (NSGS's checks,
+/// [`Check`], `residual_again`). PC's sweeps keep their own, fused and split in halves.
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct Tally {
+    force: f64,
+    gap: f64,
+    pub znorm: f64,
+    bad: f64,
+}
+
+impl Tally {
+    /// Adds row i: its iterate z, D⁻¹G (`dg`), bounds and diagonal `d` ([`Measure::row`]).
+    #[inline(always)]
+    pub fn add(&mut self, measure: &Measure, z: f64, dg: f64, lo: f64, hi: f64, d: f64) {
+        let (r, rg) = measure.row(z, dg, lo, hi, d);
+        self.force = super::pc::larger(r, self.force);
+        self.gap = super::pc::larger(rg, self.gap);
+        self.znorm = super::pc::larger(z.abs(), self.znorm);
+        self.bad += z * 0.0 + dg * 0.0;
+    }
+
+    /// The reported residual ([`Measure::combine`]); `None` when a value was not finite.
+    pub fn value(&self) -> Option<f64> {
+        self.bad.is_finite().then(|| Measure::combine(self.force, self.gap, self.znorm))
+    }
+}
+
 /// The residual of an answer measured on its own, from one product with W (math note §4.3): G
 /// = q + W z, the bounds the rule gives at z, and [`Measure`] row by row, D the diagonal of W
 /// (1 where it is not positive, as the scaling takes it). For the answers PC and MPRGP leave
@@ -77,22 +105,16 @@ impl Check {
         p.w.apply(z, &mut self.g);
         p.w.diagonal(&mut self.d);
         rule.all_bounds(p.blocks, z, &mut self.lo, &mut self.hi);
-        let measure = Measure::new(opts);
-        let (mut force, mut gap, mut znorm, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+        let (measure, mut tally) = (Measure::new(opts), Tally::default());
         let rows = z.iter().zip(p.q).zip(&self.g).zip(&self.d).zip(self.lo.iter().zip(&self.hi));
         for ((((&zi, &qi), &wz), &d), (&l, &h)) in rows {
             if l > h || l.is_nan() || h.is_nan() {
                 return f64::INFINITY;
             }
             let d = if d > 0.0 && d.is_finite() { d } else { 1.0 };
-            let g = qi + wz;
-            let (r, rg) = measure.row(zi, g / d, l, h, d);
-            force = super::pc::larger(r, force);
-            gap = super::pc::larger(rg, gap);
-            znorm = super::pc::larger(zi.abs(), znorm);
-            bad += g * 0.0 + zi * 0.0;
+            tally.add(&measure, zi, (qi + wz) / d, l, h, d);
         }
-        if bad.is_finite() { Measure::combine(force, gap, znorm) } else { f64::INFINITY }
+        tally.value().unwrap_or(f64::INFINITY)
     }
 }
 
@@ -143,16 +165,11 @@ impl super::Solver {
         {
             return None;
         }
-        let (measure, gs) = (Measure::new(opts), s.gs());
-        let (mut force, mut gap, mut znorm, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+        let (measure, gs, mut tally) = (Measure::new(opts), s.gs(), Tally::default());
         for i in 0..n {
             let f = s.sc[i] * q[i] + v.wy[i];
-            let (r, rg) = measure.row(z[i], gs[i] * f, v.lo[i], v.hi[i], s.dd[i]);
-            force = super::pc::larger(r, force);
-            gap = super::pc::larger(rg, gap);
-            znorm = super::pc::larger(z[i].abs(), znorm);
-            bad += f * 0.0 + z[i] * 0.0;
+            tally.add(&measure, z[i], gs[i] * f, v.lo[i], v.hi[i], s.dd[i]);
         }
-        bad.is_finite().then(|| Measure::combine(force, gap, znorm))
+        tally.value()
     }
 }

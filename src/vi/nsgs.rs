@@ -10,7 +10,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::local::{Local, MAX};
-use super::measure::{Goal, Measure};
+use super::measure::{Goal, Measure, Tally};
 use super::{BoundRule, Options, Stats, Status};
 use sprs::CsMatView;
 
@@ -215,7 +215,7 @@ impl Work {
         measure: Measure,
     ) -> (f64, f64) {
         rule.all_bounds(blocks, z, &mut self.lo, &mut self.hi);
-        let (mut r, mut gap, mut zn, mut bad) = (0.0f64, 0.0f64, 0.0f64, 0.0);
+        let mut tally = Tally::default();
         for b in blocks.windows(2) {
             for i in b[0]..b[1] {
                 let (mut g, mut d) = (q[i], 0.0);
@@ -229,15 +229,10 @@ impl Work {
                 if !(l <= h) {
                     return (f64::INFINITY, 0.0);
                 }
-                let zi = z[i];
-                let (ri, rg) = measure.row(zi, g / d, l, h, d);
-                r = r.max(ri);
-                gap = gap.max(rg);
-                zn = zn.max(zi.abs());
-                bad += zi * 0.0 + g * 0.0;
+                tally.add(&measure, z[i], g / d, l, h, d);
             }
         }
-        if bad.is_finite() { (Measure::combine(r, gap, zn), zn) } else { (f64::INFINITY, zn) }
+        (tally.value().unwrap_or(f64::INFINITY), tally.znorm)
     }
 
     /// S = max(1, ||D⁻¹q||_inf, ||z_start||_inf) of the growth test.
