@@ -1,6 +1,6 @@
-//! Lemke's complementary pivoting on the LCP of a small Coulomb QVI (math note §4.12): the
-//! last resort of the methods' hand-overs (`guard.rs`) when NSGS has stalled. It ends in a
-//! finite number of pivots at an exact solution, where the iterative methods can circle a
+//! Lemke's complementary pivoting on the LCP of a Coulomb QVI (math note §4.12): the last
+//! resort of the methods' hand-overs (`guard.rs`) when NSGS has stalled. It ends in a finite
+//! number of pivots at an exact solution, where the iterative methods can circle a
 //! near-solution of the wrong contact pattern for ever (the slumping pile of §4.12).
 //!
 //! Each block (normal row n, rows i = 1.. with |z_i| <= a_i + b_i max(n, 0)) gives the LCP
@@ -15,22 +15,22 @@
 //! ```
 //!
 //! in Jacobi-scaled variables. Only laws without tension or cohesion that an open contact
-//! loses (`tension = 0`, `a = a_open`) have this form; other problems are not taken. The
-//! basis inverse is dense (m² values for m LCP variables) and a pivot costs about 2 m² flops,
-//! hence [`MAX_VARS`].
-
-// Dense index loops over rows and columns of the same matrices.
-#![allow(clippy::needless_range_loop)]
+//! loses (`tension = 0`, `a = a_open`) have this form; other problems are not taken. M is kept
+//! sparse and the basis as a sparse LU with one eta per pivot (`basis.rs`), so a pivot costs
+//! about the factor's fill, not m²; [`MAX_VARS`], the pivot cap and [`Path`] (a covering
+//! ends when its path comes back to a basis) bound the time a solve that fails can take.
 
 use super::{BoundRule, Problem};
-use sprs::CsMatView;
+use sprs::{CsMat, CsMatView, TriMat};
 
-/// Largest LCP taken (variables; four per frictional contact of two rows, so 250 contacts):
-/// 8 MB of basis inverse and about 2 Mflop a pivot. A solve that fails costs at most
-/// `COVERINGS` × (`PIVOTS_PER_VAR` m + 100) pivots: about 10 s at m = 660 here (the slumping
-/// pile of §4.12), where a success took 382–4,503 pivots (0.2–2 s). The 10 × 10 deformable pile
-/// (1,124 variables, some 39,000 pivots for Lemke, §4.8) is left out.
-pub(super) const MAX_VARS: usize = 1_000;
+mod basis;
+use basis::Basis;
+
+/// Largest LCP taken (variables; four per frictional contact of two rows, so 1,000 contacts).
+/// The 240-disk slump's 2,756 are solved in 3,117 and 3,184 pivots (about 0.3 ms a pivot); the
+/// 1,000-disk piles' 11,744 are not: a path ran 200,000 pivots (6 minutes) without ending, and
+/// went round a loop from pivot 6,242 on (math note §4.12, "A sparse basis", "Cycling").
+pub(super) const MAX_VARS: usize = 4_000;
 
 /// Covering vectors tried, each with a pivot cap of `PIVOTS_PER_VAR` m + 100.
 const COVERINGS: usize = 4;
@@ -43,8 +43,8 @@ const TIE: f64 = 1e-9;
 /// The LCP w = M x + q ⟂ x >= 0 of a problem, and the map back to its z.
 struct Lcp {
     m: usize,
-    /// M, column-major.
-    mat: Vec<f64>,
+    /// M, by columns.
+    mat: CsMat<f64>,
     q: Vec<f64>,
     /// Per VI row: its variable(s), `(plus, minus)`; `minus = usize::MAX` for a normal row.
     vars: Vec<(usize, usize)>,
@@ -66,8 +66,7 @@ pub(super) fn solve(
     measure: &mut dyn FnMut(&[f64]) -> f64,
 ) -> Option<(usize, f64)> {
     let n = p.q.len();
-    let w = dense(w)?;
-    let lcp = Lcp::new(p, rule, &w, z)?;
+    let lcp = Lcp::new(w, p, rule, z)?;
     let mut pivots = 0;
     for k in 0..COVERINGS {
         let d: Vec<f64> = (0..lcp.m).map(|i| covering(i, k)).collect();
@@ -98,29 +97,16 @@ fn covering(i: usize, k: usize) -> f64 {
     0.5 + ((i as f64 + 1.0) * golden * k as f64).fract()
 }
 
-/// W dense (row-major n × n) from its CSR; `None` when it is too large for [`MAX_VARS`] at any
-/// block size or an entry is not finite.
-fn dense(w: CsMatView<'_, f64>) -> Option<Vec<f64>> {
-    let n = w.rows();
-    if n > MAX_VARS {
-        return None;
-    }
-    let mut d = vec![0.0; n * n];
-    for (i, row) in w.outer_iterator().enumerate() {
-        for (j, &v) in row.iter() {
-            d[i * n + j] += v;
-        }
-    }
-    d.iter().all(|v| v.is_finite()).then_some(d)
-}
-
 impl Lcp {
-    /// The LCP of the problem, its laws taken at z; `None` when a block has no closed-form law
-    /// of the LCP's kind, a diagonal entry is not positive, or it has more than MAX_VARS
-    /// variables.
-    fn new(p: &Problem, rule: &dyn BoundRule, w: &[f64], z: &[f64]) -> Option<Lcp> {
+    /// The LCP of the problem (W its CSR), its laws taken at z; `None` when a block has no
+    /// closed-form law of the LCP's kind, a diagonal entry is not positive or an entry not
+    /// finite, or it has more than MAX_VARS variables.
+    fn new(w: CsMatView<'_, f64>, p: &Problem, rule: &dyn BoundRule, z: &[f64]) -> Option<Lcp> {
         let n = p.q.len();
-        let sc: Vec<f64> = (0..n).map(|i| 1.0 / w[i * n + i].sqrt()).collect();
+        if w.rows() != n || w.data().iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let sc: Vec<f64> = (0..n).map(|i| 1.0 / w.get(i, i).copied().unwrap_or(0.0).sqrt()).collect();
         if !sc.iter().all(|s| s.is_finite() && *s > 0.0) {
             return None;
         }
@@ -142,42 +128,37 @@ impl Lcp {
                 lambdas.push((m + 2, law.a[i - 1] / sc[r], law.b[i - 1] * sc[b[0]] / sc[r], vars[b[0]].0));
                 m += 3;
             }
+            if m > MAX_VARS {
+                return None;
+            }
         }
-        if m > MAX_VARS {
-            return None;
-        }
-        let mut lcp = Lcp { m, mat: vec![0.0; m * m], q: vec![0.0; m], vars, sc };
-        lcp.fill(p.q, w);
+        let mut q = vec![0.0; m];
+        let mut mat = TriMat::with_capacity((m, m), 4 * w.nnz() + 5 * lambdas.len());
+        fill(w, p.q, &vars, &sc, &mut mat, &mut q);
         for &(l, a, b, normal) in &lambdas {
             let (plus, minus) = (l - 2, l - 1);
-            lcp.q[l] = a;
-            lcp.mat[normal * m + l] = b;
-            lcp.mat[plus * m + l] = -1.0;
-            lcp.mat[minus * m + l] = -1.0;
+            q[l] = a;
+            mat.add_triplet(l, normal, b);
+            mat.add_triplet(l, plus, -1.0);
+            mat.add_triplet(l, minus, -1.0);
             // λ enters the rows of t⁺ and t⁻
-            lcp.mat[l * m + plus] = 1.0;
-            lcp.mat[l * m + minus] = 1.0;
+            mat.add_triplet(plus, l, 1.0);
+            mat.add_triplet(minus, l, 1.0);
         }
-        Some(lcp)
+        Some(Lcp { m, mat: mat.to_csc(), q, vars, sc })
     }
 
-    /// The rows of n, t⁺ and t⁻: ±(Ŵ y + q̂) with y = n or t⁺ − t⁻.
-    fn fill(&mut self, q: &[f64], w: &[f64]) {
-        let (n, m) = (q.len(), self.m);
-        for r in 0..n {
-            let (plus, minus) = self.vars[r];
-            let rows = [(plus, 1.0), (minus, -1.0)];
-            for &(row, sign) in rows.iter().filter(|(row, _)| *row != usize::MAX) {
-                self.q[row] = sign * self.sc[r] * q[r];
-                for c in 0..n {
-                    let v = sign * self.sc[r] * w[r * n + c] * self.sc[c];
-                    let (cp, cm) = self.vars[c];
-                    self.mat[cp * m + row] += v;
-                    if cm != usize::MAX {
-                        self.mat[cm * m + row] -= v;
-                    }
-                }
-            }
+    /// Calls `f(i, v)` for the nonzeros of variable j's column in [I, −M, −d] (w_j: j < m, x_j:
+    /// m + j, the artificial variable: 2 m).
+    fn column_of(&self, d: &[f64], j: usize, mut f: impl FnMut(usize, f64)) {
+        let m = self.m;
+        if j < m {
+            f(j, 1.0);
+        } else if j < 2 * m {
+            let col = self.mat.outer_view(j - m).expect("a column of M");
+            col.iter().for_each(|(i, &v)| f(i, -v));
+        } else {
+            d.iter().enumerate().for_each(|(i, &v)| f(i, -v));
         }
     }
 
@@ -193,8 +174,31 @@ impl Lcp {
     }
 }
 
+/// The rows of n, t⁺ and t⁻: ±(Ŵ y + q̂) with y = n or t⁺ − t⁻, into M's triplets and q.
+fn fill(
+    w: CsMatView<'_, f64>,
+    qz: &[f64],
+    vars: &[(usize, usize)],
+    sc: &[f64],
+    mat: &mut TriMat<f64>,
+    q: &mut [f64],
+) {
+    let signed = |(plus, minus): (usize, usize)| {
+        [(plus, 1.0), (minus, -1.0)].into_iter().filter(|v| v.0 != usize::MAX)
+    };
+    for (r, row) in w.outer_iterator().enumerate() {
+        for (lrow, sign) in signed(vars[r]) {
+            q[lrow] = sign * sc[r] * qz[r];
+            for (c, &v) in row.iter() {
+                let v = sign * sc[r] * v * sc[c];
+                signed(vars[c]).for_each(|(lcol, s)| mat.add_triplet(lrow, lcol, s * v));
+            }
+        }
+    }
+}
+
 /// Lemke's method with covering vector d (> 0) and at most `cap` pivots: x and the pivots
-/// used, x `None` on a ray, the cap or a singular final basis.
+/// used, x `None` on a ray, the cap or a singular basis.
 fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
     let m = lcp.m;
     let q = &lcp.q;
@@ -204,51 +208,82 @@ fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
     // variables: w_i = i, x_j = m + j, the artificial z0 = 2m; the basis starts with all w
     let z0 = 2 * m;
     let mut basis: Vec<usize> = (0..m).collect();
-    let mut binv = vec![0.0; m * m];
-    (0..m).for_each(|i| binv[i * m + i] = 1.0);
+    let mut inv = Basis::identity();
     let mut xb = q.clone();
-    let (mut col, mut row_r, mut cand) = (vec![0.0; m], vec![0.0; m], Vec::new());
+    let (mut col, mut cand) = (vec![0.0; m], Vec::new());
     let first = (0..m).filter(|&i| q[i] < 0.0).max_by(|&a, &b| (-q[a] / d[a]).total_cmp(&(-q[b] / d[b])));
     let mut r = first.unwrap_or(0);
     let mut entering = z0;
+    let mut path = Path::new(m);
     for pivot in 0..cap {
-        column(lcp, d, &binv, entering, &mut col);
+        if inv.due() {
+            // a fresh factor, and x_B solved afresh from it rather than carried by the updates
+            if inv.refactor(lcp, d, &basis).is_none() {
+                return (None, pivot);
+            }
+            xb.copy_from_slice(q);
+            inv.solve(&mut xb);
+        }
+        col.fill(0.0);
+        lcp.column_of(d, entering, |i, v| col[i] = v);
+        inv.solve(&mut col);
+        if !col.iter().all(|c| c.is_finite()) {
+            return (None, pivot);
+        }
         if pivot > 0 {
             match ratio_test(&xb, &col, &basis, z0, &mut cand) {
                 Some(row) => r = row,
                 None => return (None, pivot),
             }
         }
-        let p = col[r];
-        let theta = xb[r] / p;
-        (0..m).for_each(|i| xb[i] -= theta * col[i]);
+        let theta = xb[r] / col[r];
+        xb.iter_mut().zip(&col).for_each(|(x, c)| *x -= theta * c);
         xb[r] = theta;
-        row_r.iter_mut().zip(&binv[r * m..(r + 1) * m]).for_each(|(o, v)| *o = v / p);
-        for i in (0..m).filter(|&i| i != r && col[i] != 0.0) {
-            let c = col[i];
-            binv[i * m..(i + 1) * m].iter_mut().zip(&row_r).for_each(|(b, v)| *b -= c * v);
-        }
-        binv[r * m..(r + 1) * m].copy_from_slice(&row_r);
+        inv.push(r, &col);
         let leaving = std::mem::replace(&mut basis[r], entering);
         if leaving == z0 {
-            return (final_x(lcp, d, &basis), pivot + 1);
+            return (final_x(lcp, d, &basis, &mut inv), pivot + 1);
+        }
+        if !path.moved(leaving, entering) {
+            return (None, pivot + 1);
         }
         entering = if leaving < m { leaving + m } else { leaving - m };
     }
     (None, cap)
 }
 
-/// col = B⁻¹ a_j, a_j the column of variable j in [I, −M, −d].
-fn column(lcp: &Lcp, d: &[f64], binv: &[f64], j: usize, col: &mut [f64]) {
-    let m = lcp.m;
-    if j < m {
-        (0..m).for_each(|i| col[i] = binv[i * m + j]);
-        return;
+/// The bases Lemke's path has passed, each as the Zobrist hash of its set of variables (the
+/// XOR of a 64-bit key per variable, updated by a pivot in two XORs). In exact arithmetic the
+/// path never meets a basis twice; in floating point it can close into a loop of a few to a few
+/// hundred pivots at a degenerate near-solution and go round it until the cap (math note §4.12,
+/// "Cycling"), so a repeat ends the covering. A collision of two hashes (a chance of about
+/// k² / 2⁶⁵ over a path of k pivots) would only end it early.
+struct Path {
+    hash: u64,
+    seen: std::collections::HashSet<u64>,
+}
+
+impl Path {
+    /// The path at the starting basis, the slack variables w_i = 0..m.
+    fn new(m: usize) -> Path {
+        let hash = (0..m).fold(0, |h, v| h ^ key(v));
+        Path { hash, seen: std::collections::HashSet::from([hash]) }
     }
-    let a = if j < 2 * m { &lcp.mat[(j - m) * m..(j - m + 1) * m] } else { d };
-    for i in 0..m {
-        col[i] = -binv[i * m..(i + 1) * m].iter().zip(a).map(|(b, a)| b * a).sum::<f64>();
+
+    /// The pivot that swapped `leaving` for `entering`: false when its basis was met before.
+    fn moved(&mut self, leaving: usize, entering: usize) -> bool {
+        self.hash ^= key(leaving) ^ key(entering);
+        self.seen.insert(self.hash)
     }
+}
+
+/// A variable's key in [`Path`]'s hashes (splitmix64's finalizer: distinct variables give
+/// unrelated 64-bit keys).
+fn key(v: usize) -> u64 {
+    let mut h = (v as u64).wrapping_add(0x9E37_79B9_7F4A_7C15);
+    h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    h ^ (h >> 31)
 }
 
 /// The leaving row: the least ratio x_i / col_i over col_i > 0, rows whose ratio keeps every
@@ -286,27 +321,19 @@ fn ratio_test(
     Some(best)
 }
 
-/// x from the final basis, solved afresh (LU of B) rather than read from the updated x_B.
-fn final_x(lcp: &Lcp, d: &[f64], basis: &[usize]) -> Option<Vec<f64>> {
+/// x from the final basis, solved afresh (a new LU of B) rather than read from the updated x_B.
+fn final_x(lcp: &Lcp, d: &[f64], basis: &[usize], inv: &mut Basis) -> Option<Vec<f64>> {
     let m = lcp.m;
-    let b = nalgebra::DMatrix::from_fn(m, m, |i, k| {
-        let j = basis[k];
-        if j < m {
-            f64::from(u8::from(i == j))
-        } else if j < 2 * m {
-            -lcp.mat[(j - m) * m + i]
-        } else {
-            -d[i]
-        }
-    });
-    let xb = b.lu().solve(&nalgebra::DVector::from_column_slice(&lcp.q))?;
+    inv.refactor(lcp, d, basis)?;
+    let mut xb = lcp.q.clone();
+    inv.solve(&mut xb);
     let mut x = vec![0.0; m];
     for (k, &j) in basis.iter().enumerate() {
         if (m..2 * m).contains(&j) {
             x[j - m] = xb[k].max(0.0);
         }
     }
-    Some(x)
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 #[cfg(test)]
@@ -333,6 +360,66 @@ mod tests {
         let mut check = measure::Check::default();
         let mut measure = |x: &[f64]| check.residual(p, rule, x, &opts);
         super::solve(w.view(), p, rule, z, (tol, 100), &mut measure)
+    }
+
+    /// Normal contacts alone (one row a block, no friction): z >= 0, G >= 0, z G = 0.
+    struct Normal;
+    impl BoundRule for Normal {
+        fn block_bounds(&self, _k: usize, _z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
+            (lo[0], hi[0]) = (0.0, f64::INFINITY);
+        }
+        fn block_law(&self, _k: usize, _z: &[f64]) -> Option<BlockLaw> {
+            Some(BlockLaw::default())
+        }
+    }
+
+    /// An LCP beyond the dense basis's old limit of 1,000 variables (math note §4.12, "A sparse
+    /// basis"): 1,500 normal contacts in a chain, W tridiagonal (diagonal 3 + i mod 4, off
+    /// diagonal −1: strictly diagonally dominant, so symmetric positive definite, a P-matrix,
+    /// and the LCP has exactly one solution, Cottle, Pang & Stone, Thm 3.3.7). q is made from
+    /// a chosen answer: z* = 1 + i mod 5 on rows i mod 3 ≠ 0 and 0 on the others, where the gap
+    /// G* = q + W z* is 0.5 + i mod 7 (and 0 where z* > 0). Lemke must end at z*; W's condition
+    /// number is below 3, so rounding leaves about 1e-14 and 1e-10 is ample.
+    #[test]
+    fn lemke_solves_a_chain_beyond_the_dense_limit() {
+        let n = 1_500;
+        let mut t = sprs::TriMat::new((n, n));
+        for i in 0..n {
+            t.add_triplet(i, i, 3.0 + (i % 4) as f64);
+            if i + 1 < n {
+                t.add_triplet(i, i + 1, -1.0);
+                t.add_triplet(i + 1, i, -1.0);
+            }
+        }
+        let w: CsMat<f64> = t.to_csr();
+        let want: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.0 } else { 1.0 + (i % 5) as f64 }).collect();
+        let gap: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.5 + (i % 7) as f64 } else { 0.0 }).collect();
+        let wz = |i: usize| w.outer_view(i).expect("a row").iter().map(|(j, v)| v * want[j]).sum::<f64>();
+        let q: Vec<f64> = (0..n).map(|i| gap[i] - wz(i)).collect();
+        let blocks: Vec<usize> = (0..=n).collect();
+        let p = Problem { w: &w, q: &q, blocks: &blocks };
+        let opts = Options { tolerance: 1e-12, ..Options::default() };
+        let mut check = measure::Check::default();
+        let mut measure = |x: &[f64]| check.residual(&p, &Normal, x, &opts);
+        let mut z = vec![0.0; n];
+        let (pivots, residual) =
+            super::solve(w.view(), &p, &Normal, &mut z, (1e-12, 100_000), &mut measure).expect("solved");
+        let err = z.iter().zip(&want).fold(0.0f64, |e, (a, b)| e.max((a - b).abs()));
+        assert!(err < 1e-10 && residual <= 1e-12, "|z - z*| = {err}, residual {residual} after {pivots}");
+    }
+
+    /// The path's hashes are of sets: the bases met again after any order of swaps are
+    /// recognised, and a new basis is not (the starting basis {0, 1, 2, 3}; variables 5 and 6
+    /// enter and leave again).
+    #[test]
+    fn a_path_that_comes_back_is_seen() {
+        let mut path = super::Path::new(4);
+        assert!(path.moved(0, 5), "{{5, 1, 2, 3}} is new");
+        assert!(path.moved(1, 6), "{{5, 6, 2, 3}} is new");
+        assert!(path.moved(5, 0), "{{0, 6, 2, 3}} is new");
+        assert!(!path.moved(6, 1), "{{0, 1, 2, 3}} is the start");
+        assert!(!path.moved(0, 5), "{{5, 1, 2, 3}} again");
+        assert!(path.moved(2, 6), "{{5, 1, 6, 3}} is new");
     }
 
     struct Coulomb(f64, f64);
