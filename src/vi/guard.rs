@@ -152,7 +152,8 @@ impl Solver {
         let budget = opts.max_iterations.saturating_sub(before.1);
         let check = &mut self.check;
         let mut measure = |x: &[f64]| check.residual(p, rule, x, opts);
-        let (pivots, residual) = lemke::solve(w, p, rule, z, (opts.tolerance, budget), &mut measure)?;
+        let limits = (opts.tolerance, budget);
+        let (pivots, residual) = lemke::solve(w, p, rule, z, limits, &mut measure, &mut self.best)?;
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
         let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
         Some(Report { outer_iterations, inner_iterations, residual, converged: true })

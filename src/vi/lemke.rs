@@ -20,6 +20,7 @@
 //! about the factor's fill, not m²; [`MAX_VARS`], the pivot cap and [`Path`] (a covering
 //! ends when its path comes back to a basis) bound the time a solve that fails can take.
 
+use super::guard::Best;
 use super::{BoundRule, Problem};
 use sprs::{CsMat, CsMatView, TriMat};
 
@@ -56,7 +57,9 @@ struct Lcp {
 /// form above and at most [`MAX_VARS`] LCP variables, in at most `budget` pivots; z
 /// (overwritten only on success) gets the answer. Returns the pivots and the residual
 /// (`measure`: the solver's measure of an answer, `measure::Check`, math note §4.3, §4.9) when
-/// that meets `tolerance`, `None` otherwise.
+/// that meets `tolerance`, `None` otherwise. Every answer measured is offered to `best` (the
+/// chain's best answer, math note §4.7), so a near-solution that misses the tolerance still
+/// counts when the chain fails.
 pub(super) fn solve(
     w: CsMatView<'_, f64>,
     p: &Problem,
@@ -64,6 +67,7 @@ pub(super) fn solve(
     z: &mut [f64],
     (tolerance, budget): (f64, usize),
     measure: &mut dyn FnMut(&[f64]) -> f64,
+    best: &mut Best,
 ) -> Option<(usize, f64)> {
     let n = p.q.len();
     let lcp = Lcp::new(w, p, rule, z)?;
@@ -83,6 +87,7 @@ pub(super) fn solve(
             z.copy_from_slice(&answer);
             return Some((pivots, residual));
         }
+        best.offer(residual, &answer);
     }
     None
 }
@@ -198,7 +203,10 @@ fn fill(
 }
 
 /// Lemke's method with covering vector d (> 0) and at most `cap` pivots: x and the pivots
-/// used, x `None` on a ray, the cap or a singular basis.
+/// used. x is the LCP's solution when the artificial variable z0 leaves the basis; when the
+/// path comes back to a basis or reaches the cap, x of the basis it stopped at, an exact
+/// solution of the LCP with q + z0 d (a near-solution where z0 is small: math note §4.12,
+/// "Cycling"); `None` on a ray or a singular basis.
 fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
     let m = lcp.m;
     let q = &lcp.q;
@@ -245,11 +253,11 @@ fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
             return (final_x(lcp, d, &basis, &mut inv), pivot + 1);
         }
         if !path.moved(leaving, entering) {
-            return (None, pivot + 1);
+            return (final_x(lcp, d, &basis, &mut inv), pivot + 1);
         }
         entering = if leaving < m { leaving + m } else { leaving - m };
     }
-    (None, cap)
+    (final_x(lcp, d, &basis, &mut inv), cap)
 }
 
 /// The bases Lemke's path has passed, each as the Zobrist hash of its set of variables (the
@@ -343,6 +351,7 @@ mod tests {
     //! sticking, q = (−2, −0.2): z = (38/35, −12/35), |z_t| = 0.343 < μ z_n = 0.543; sliding,
     //! q = (−2, −2): z = (8/9, 4/9) = (z_n, μ z_n). Pivoting is exact up to rounding on a
     //! 4-variable LCP, so 1e-12.
+    use super::super::guard::Best;
     use super::super::tests::csr;
     use super::super::{BlockLaw, BoundRule, Options, Problem, measure};
     use sprs::CsMat;
@@ -359,7 +368,7 @@ mod tests {
         let opts = Options { tolerance: tol, ..Options::default() };
         let mut check = measure::Check::default();
         let mut measure = |x: &[f64]| check.residual(p, rule, x, &opts);
-        super::solve(w.view(), p, rule, z, (tol, 100), &mut measure)
+        super::solve(w.view(), p, rule, z, (tol, 100), &mut measure, &mut Best::default())
     }
 
     /// Normal contacts alone (one row a block, no friction): z >= 0, G >= 0, z G = 0.
@@ -373,6 +382,19 @@ mod tests {
         }
     }
 
+    /// The chain matrix of the tests below: diagonal 3 + i mod 4, off diagonal −1.
+    fn chain(n: usize) -> sprs::TriMat<f64> {
+        let mut t = sprs::TriMat::new((n, n));
+        for i in 0..n {
+            t.add_triplet(i, i, 3.0 + (i % 4) as f64);
+            if i + 1 < n {
+                t.add_triplet(i, i + 1, -1.0);
+                t.add_triplet(i + 1, i, -1.0);
+            }
+        }
+        t
+    }
+
     /// An LCP beyond the dense basis's old limit of 1,000 variables (math note §4.12, "A sparse
     /// basis"): 1,500 normal contacts in a chain, W tridiagonal (diagonal 3 + i mod 4, off
     /// diagonal −1: strictly diagonally dominant, so symmetric positive definite, a P-matrix,
@@ -383,15 +405,7 @@ mod tests {
     #[test]
     fn lemke_solves_a_chain_beyond_the_dense_limit() {
         let n = 1_500;
-        let mut t = sprs::TriMat::new((n, n));
-        for i in 0..n {
-            t.add_triplet(i, i, 3.0 + (i % 4) as f64);
-            if i + 1 < n {
-                t.add_triplet(i, i + 1, -1.0);
-                t.add_triplet(i + 1, i, -1.0);
-            }
-        }
-        let w: CsMat<f64> = t.to_csr();
+        let w: CsMat<f64> = chain(n).to_csr();
         let want: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.0 } else { 1.0 + (i % 5) as f64 }).collect();
         let gap: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.5 + (i % 7) as f64 } else { 0.0 }).collect();
         let wz = |i: usize| w.outer_view(i).expect("a row").iter().map(|(j, v)| v * want[j]).sum::<f64>();
@@ -403,9 +417,42 @@ mod tests {
         let mut measure = |x: &[f64]| check.residual(&p, &Normal, x, &opts);
         let mut z = vec![0.0; n];
         let (pivots, residual) =
-            super::solve(w.view(), &p, &Normal, &mut z, (1e-12, 100_000), &mut measure).expect("solved");
+            super::solve(w.view(), &p, &Normal, &mut z, (1e-12, 100_000), &mut measure, &mut Best::default())
+                .expect("solved");
         let err = z.iter().zip(&want).fold(0.0f64, |e, (a, b)| e.max((a - b).abs()));
         assert!(err < 1e-10 && residual <= 1e-12, "|z - z*| = {err}, residual {residual} after {pivots}");
+    }
+
+    /// A path cut by the cap hands back x of the basis it stopped at, which solves the LCP with
+    /// q + z0 d (math note §4.12, "Cycling"): with d = ones, every x_i > 0 has w_i = (M x + q)_i
+    /// = −z0, the same for all (z0 > 0, the artificial variable still basic), and every other
+    /// row w_i >= −z0. M is a chain like that of `lemke_solves_a_chain_beyond_the_dense_limit`
+    /// (60 rows; symmetric, so its columns are its rows), cut at 40 pivots; exact up to
+    /// rounding of entries of order one.
+    #[test]
+    fn a_cut_path_hands_back_a_solution_of_the_shifted_lcp() {
+        let n = 60;
+        let t = chain(n);
+        let q: Vec<f64> =
+            (0..n).map(|i| -1.0 - (i % 5) as f64 + if i % 3 == 0 { 6.0 } else { 0.0 }).collect();
+        let lcp = super::Lcp { m: n, mat: t.to_csc(), q: q.clone(), vars: Vec::new(), sc: Vec::new() };
+        let (x, used) = super::lemke(&lcp, &vec![1.0; n], 40);
+        let x = x.expect("a basis");
+        assert_eq!(used, 40, "the cap ends the path");
+        let w: Vec<f64> = (0..n)
+            .map(|i| q[i] + lcp.mat.outer_view(i).expect("col").iter().map(|(j, v)| v * x[j]).sum::<f64>())
+            .collect();
+        let positive: Vec<usize> = (0..n).filter(|&i| x[i] > 0.0).collect();
+        assert!(!positive.is_empty());
+        let z0 = -w[positive[0]];
+        assert!(z0 > 0.0, "z0 = {z0}");
+        for i in 0..n {
+            if x[i] > 0.0 {
+                assert!((w[i] + z0).abs() < 1e-12, "row {i}: w = {} against -z0 = {}", w[i], -z0);
+            } else {
+                assert!(w[i] >= -z0 - 1e-12, "row {i}: w = {} below -z0 = {}", w[i], -z0);
+            }
+        }
     }
 
     /// The path's hashes are of sets: the bases met again after any order of swaps are
