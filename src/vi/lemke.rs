@@ -218,7 +218,7 @@ fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
     let mut basis: Vec<usize> = (0..m).collect();
     let mut inv = Basis::identity();
     let mut xb = q.clone();
-    let (mut col, mut cand) = (vec![0.0; m], Vec::new());
+    let mut col = vec![0.0; m];
     let first = (0..m).filter(|&i| q[i] < 0.0).max_by(|&a, &b| (-q[a] / d[a]).total_cmp(&(-q[b] / d[b])));
     let mut r = first.unwrap_or(0);
     let mut entering = z0;
@@ -239,7 +239,7 @@ fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
             return (None, pivot);
         }
         if pivot > 0 {
-            match ratio_test(&xb, &col, &basis, z0, &mut cand) {
+            match ratio_test(&xb, &col, &basis, z0) {
                 Some(row) => r = row,
                 None => return (None, pivot),
             }
@@ -249,10 +249,8 @@ fn lemke(lcp: &Lcp, d: &[f64], cap: usize) -> (Option<Vec<f64>>, usize) {
         xb[r] = theta;
         inv.push(r, &col);
         let leaving = std::mem::replace(&mut basis[r], entering);
-        if leaving == z0 {
-            return (final_x(lcp, d, &basis, &mut inv), pivot + 1);
-        }
-        if !path.moved(leaving, entering) {
+        // the end, or a loop: the basis's x either way (its z0 is 0 at the end)
+        if leaving == z0 || !path.moved(leaving, entering) {
             return (final_x(lcp, d, &basis, &mut inv), pivot + 1);
         }
         entering = if leaving < m { leaving + m } else { leaving - m };
@@ -296,37 +294,27 @@ fn key(v: usize) -> u64 {
 
 /// The leaving row: the least ratio x_i / col_i over col_i > 0, rows whose ratio keeps every
 /// basic variable above −TIE max(1, max x_B) counting as tied; among ties z0's row, else the
-/// largest pivot. `None` on a ray.
-fn ratio_test(
-    xb: &[f64],
-    col: &[f64],
-    basis: &[usize],
-    z0: usize,
-    cand: &mut Vec<(f64, usize)>,
-) -> Option<usize> {
+/// largest pivot (the least ratio, then the lowest row, among equal pivots). `None` on a ray.
+/// Two passes over the rows: the largest step that keeps them all above that floor, `reach`,
+/// is the least of (x_i − floor) / col_i, and a row is tied when its ratio is within it.
+fn ratio_test(xb: &[f64], col: &[f64], basis: &[usize], z0: usize) -> Option<usize> {
     let big = col.iter().fold(0.0f64, |s, c| s.max(c.abs()));
     let eps = 1e-12 * big.max(1.0);
-    cand.clear();
-    cand.extend((0..xb.len()).filter(|&i| col[i] > eps).map(|i| (xb[i] / col[i], i)));
-    if cand.is_empty() {
-        return None;
-    }
-    cand.sort_by(|a, b| a.0.total_cmp(&b.0));
     let floor = -TIE * xb.iter().fold(1.0f64, |s, v| s.max(v.abs()));
-    let mut best = cand[0].1;
-    for (k, &(theta, i)) in cand.iter().enumerate() {
-        let feasible = k == 0 || cand.iter().all(|&(_, j)| xb[j] - theta * col[j] >= floor);
-        if !feasible {
-            break;
-        }
+    let rows = || (0..xb.len()).filter(|&i| col[i] > eps).map(|i| (xb[i] / col[i], i));
+    let least = |a: &(f64, usize), b: &(f64, usize)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
+    let first = rows().min_by(least)?;
+    let reach = rows().map(|(_, i)| (xb[i] - floor) / col[i]).fold(f64::INFINITY, f64::min);
+    let mut best = first;
+    for (theta, i) in rows().filter(|&(theta, i)| theta <= reach || i == first.1) {
         if basis[i] == z0 {
             return Some(i);
         }
-        if col[i] > col[best] {
-            best = i;
+        if col[i] > col[best.1] || (col[i] == col[best.1] && least(&(theta, i), &best).is_lt()) {
+            best = (theta, i);
         }
     }
-    Some(best)
+    Some(best.1)
 }
 
 /// x from the final basis, solved afresh (a new LU of B) rather than read from the updated x_B.
@@ -353,7 +341,7 @@ mod tests {
     //! 4-variable LCP, so 1e-12.
     use super::super::guard::Best;
     use super::super::tests::csr;
-    use super::super::{BlockLaw, BoundRule, Options, Problem, measure};
+    use super::super::{BlockLaw, BoundRule, Operator, Options, Problem, measure};
     use sprs::CsMat;
 
     /// Lemke on the problem with the solver's measure of an answer (as the hand-overs run it),
@@ -408,8 +396,9 @@ mod tests {
         let w: CsMat<f64> = chain(n).to_csr();
         let want: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.0 } else { 1.0 + (i % 5) as f64 }).collect();
         let gap: Vec<f64> = (0..n).map(|i| if i % 3 == 0 { 0.5 + (i % 7) as f64 } else { 0.0 }).collect();
-        let wz = |i: usize| w.outer_view(i).expect("a row").iter().map(|(j, v)| v * want[j]).sum::<f64>();
-        let q: Vec<f64> = (0..n).map(|i| gap[i] - wz(i)).collect();
+        let mut wz = vec![0.0; n];
+        w.apply(&want, &mut wz);
+        let q: Vec<f64> = (0..n).map(|i| gap[i] - wz[i]).collect();
         let blocks: Vec<usize> = (0..=n).collect();
         let p = Problem { w: &w, q: &q, blocks: &blocks };
         let opts = Options { tolerance: 1e-12, ..Options::default() };
@@ -439,9 +428,10 @@ mod tests {
         let (x, used) = super::lemke(&lcp, &vec![1.0; n], 40);
         let x = x.expect("a basis");
         assert_eq!(used, 40, "the cap ends the path");
-        let w: Vec<f64> = (0..n)
-            .map(|i| q[i] + lcp.mat.outer_view(i).expect("col").iter().map(|(j, v)| v * x[j]).sum::<f64>())
-            .collect();
+        let mut w = q.clone();
+        let mut mx = vec![0.0; n];
+        lcp.mat.apply(&x, &mut mx);
+        w.iter_mut().zip(&mx).for_each(|(w, v)| *w += v);
         let positive: Vec<usize> = (0..n).filter(|&i| x[i] > 0.0).collect();
         assert!(!positive.is_empty());
         let z0 = -w[positive[0]];
