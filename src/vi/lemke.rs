@@ -108,7 +108,9 @@ impl Lcp {
     /// finite, or it has more than MAX_VARS variables.
     fn new(w: CsMatView<'_, f64>, p: &Problem, rule: &dyn BoundRule, z: &[f64]) -> Option<Lcp> {
         let n = p.q.len();
-        if w.rows() != n || w.data().iter().any(|v| !v.is_finite()) {
+        // n, and per further row t⁺, t⁻ and λ: the size first, before any pass over W
+        let size: usize = p.blocks.windows(2).map(|b| 1 + 3 * (b[1] - b[0]).saturating_sub(1)).sum();
+        if size > MAX_VARS || w.rows() != n || w.data().iter().any(|v| !v.is_finite()) {
             return None;
         }
         let sc: Vec<f64> = (0..n).map(|i| 1.0 / w.get(i, i).copied().unwrap_or(0.0).sqrt()).collect();
@@ -132,9 +134,6 @@ impl Lcp {
                 vars[r] = (m, m + 1);
                 lambdas.push((m + 2, law.a[i - 1] / sc[r], law.b[i - 1] * sc[b[0]] / sc[r], vars[b[0]].0));
                 m += 3;
-            }
-            if m > MAX_VARS {
-                return None;
             }
         }
         let mut q = vec![0.0; m];

@@ -6,10 +6,10 @@
 //! inverse.
 
 use super::Lcp;
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::Lu;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, MatMut};
+use faer::{Conj, MatMut, Par};
 
 /// Pivots between refactorizations: each eta costs about its nonzeros in every later solve it
 /// acts in, a refactor a sparse LU. On the deformable 10 × 10 pile's first two steps (math note
@@ -26,10 +26,15 @@ struct Eta {
     end: usize,
 }
 
-/// B⁻¹ in product form over the LU of the last refactor (`None`: B₀ = I, the first basis).
+/// B⁻¹ in product form over the LU of the last refactor (`symbolic` `None`: B₀ = I, the
+/// first basis). The LU's values and the work space of its factorization and solves are kept
+/// across refactors, so a pivot allocates nothing but its eta's entries; both run on one core
+/// (`Par::Seq`), as every factorization here.
 #[derive(Default)]
 pub(super) struct Basis {
-    lu: Option<Lu<usize, f64>>,
+    symbolic: Option<SymbolicLu<usize>>,
+    numeric: NumericLu<usize, f64>,
+    stack: Option<(MemBuffer, StackReq)>,
     etas: Vec<Eta>,
     /// The etas' entries off their pivot, one after the other (kept across refactors).
     entries: Vec<(usize, f64)>,
@@ -57,17 +62,31 @@ impl Basis {
             lcp.column_of(d, j, |i, v| self.scratch.push(Triplet::new(i, k, v)));
         }
         let b = SparseColMat::<usize, f64>::try_new_from_triplets(m, m, &self.scratch).ok()?;
-        self.lu = Some(b.sp_lu().ok()?);
+        let symbolic = factorize_symbolic_lu(b.symbolic(), Default::default()).ok()?;
+        let req = symbolic
+            .factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default())
+            .or(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+        let stack = match self.stack.take() {
+            Some((buffer, held)) if held.or(req) == held => (buffer, held),
+            _ => (MemBuffer::new(req), req),
+        };
+        let stack = MemStack::new(&mut self.stack.insert(stack).0);
+        let values =
+            symbolic.factorize_numeric_lu(&mut self.numeric, b.as_ref(), Par::Seq, stack, Default::default());
+        self.symbolic = values.is_ok().then_some(symbolic);
+        self.symbolic.as_ref()?;
         self.etas.clear();
         self.entries.clear();
         Some(())
     }
 
     /// x ← B⁻¹ x.
-    pub fn solve(&self, x: &mut [f64]) {
-        if let Some(lu) = &self.lu {
+    pub fn solve(&mut self, x: &mut [f64]) {
+        if let (Some(symbolic), Some((buffer, _))) = (&self.symbolic, &mut self.stack) {
             let n = x.len();
-            lu.solve_in_place_with_conj(Conj::No, MatMut::from_column_major_slice_mut(x, n, 1));
+            let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+            let lu = LuRef::new_unchecked(symbolic, &self.numeric);
+            lu.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(buffer));
         }
         let mut start = 0;
         for e in &self.etas {
