@@ -129,8 +129,9 @@ fn unconverged_steps_fail_unless_allowed() {
     (m.solver.max_iterations, m.time.max_halvings) = (1, 2);
     let dt = m.time.step;
     match World::new(m.clone()).step() {
-        Err(StepError::Failed { step: 1, dt: h, trouble: Trouble::NotConverged { .. } }) => {
-            assert_eq!(h, dt / 4.0)
+        Err(StepError::Failed { step: 1, dt: h, trouble: Trouble::NotConverged { .. }, hint }) => {
+            assert_eq!(h, dt / 4.0);
+            assert_eq!(hint, None, "rigid disks get no hint")
         }
         other => panic!("expected a failed step 1, got {other:?}"),
     }
@@ -170,4 +171,37 @@ fn a_split_step_is_its_two_halves() {
     }
     // (the comparison needs a split step)
     assert!(!compared.is_empty(), "no step of the settling scene split once");
+}
+
+/// The deformable 10 × 10 bench pile (math note §4.8: r = 0.5 m, ρ = 1 kg/m³, E = 1e8 Pa,
+/// dt = 1/60 s, so Π = ρ r² / (E dt²) = 0.25 × 3600 / 1e8 = 9.0e-6, more than twice the
+/// tolerance 1e-6) with a budget of 20 iterations, far short of the thousands its first step
+/// needs: step 1 fails unconverged, and the error names a disk and that Π (math note §10.13),
+/// the scene's, also when the step was halved down to dt / 64 (where Π is 4,096 times larger
+/// and loosening the tolerance to it would be wrong advice). Every disk has the same Π, so
+/// which one is named is not asserted.
+#[test]
+fn a_failed_solve_of_stiff_deformable_disks_names_pi() {
+    use pbdda::generate::DiskPile;
+    let mut m =
+        DiskPile { model: pbdda::model::BodyModel::Deformable, ..DiskPile::benchmark(10, 10) }.model();
+    (m.solver.max_iterations, m.solver.allow_unconverged) = (20, false);
+    assert_eq!((m.solver.tolerance, m.time.adaptive), (1e-6, false));
+    for (adaptive, dt) in [(false, m.time.step), (true, m.time.step / 64.0)] {
+        m.time.adaptive = adaptive;
+        let Err(e @ StepError::Failed { step: 1, dt: h, trouble: Trouble::NotConverged { .. }, .. }) =
+            World::new(m.clone()).step()
+        else {
+            panic!("expected a failed step 1 (adaptive {adaptive})");
+        };
+        assert_eq!(h, dt);
+        let text = e.to_string();
+        assert!(text.contains("; deformable disk d"), "{text}");
+        assert!(
+            text.contains(
+                "Π = ρ r² / (E dt²) = 9.0e-6 at the scene's dt, more than twice the tolerance 1e-6"
+            ),
+            "{text}"
+        );
+    }
 }

@@ -12,7 +12,7 @@
 //! per halving.
 
 use super::{Event, StepError, StepRecord, TrackedPoint, World};
-use crate::body::{Body, max_displacement};
+use crate::body::{Body, Outline, max_displacement};
 use crate::connector::Connector;
 use crate::contact::ContactKey;
 use crate::dofs::DofMap;
@@ -132,7 +132,11 @@ impl World {
                     });
                 }
                 (Err(Failure::Retry(trouble)), None) => {
-                    return Err(StepError::Failed { step, dt: h, trouble });
+                    let hint = match trouble {
+                        Trouble::NotConverged { .. } => self.stiff_disks(),
+                        _ => None,
+                    };
+                    return Err(StepError::Failed { step, dt: h, trouble, hint });
                 }
             }
         }
@@ -142,6 +146,30 @@ impl World {
         rec.wall_seconds = started.elapsed().as_secs_f64();
         self.step_index = step;
         Ok(rec)
+    }
+
+    /// For a contact solve that failed: the free deformable disk of largest Π = ρ r² / (E dt²)
+    /// at the scene's dt when Π is above twice the tolerance, where frictional piles of such
+    /// disks stop at near-solutions above it (math note §10.13), with what to do.
+    fn stiff_disks(&self) -> Option<String> {
+        let (tolerance, dt) = (self.model.solver.tolerance, self.model.time.step);
+        let (pi, name) = (self.bodies.iter())
+            .filter(|b| b.deformable && !b.fixed)
+            .filter_map(|b| {
+                let Outline::Disk { radius } = b.outline else { return None };
+                let material = &self.model.materials[b.material];
+                let pi = material.density * radius * radius / (material.young? * dt * dt);
+                Some((pi, &b.name))
+            })
+            .max_by(|a, b| a.0.total_cmp(&b.0))?;
+        (pi > 2.0 * tolerance).then(|| {
+            format!(
+                "deformable disk {name} has Π = ρ r² / (E dt²) = {pi:.1e} at the scene's dt, more than \
+                 twice the tolerance {tolerance:e}: a pile of such disks with friction may not converge \
+                 below about Π / 2, and shorter steps raise Π; loosen [solver] tolerance to about Π / 2, or set \
+                 allow_unconverged = true and read `residual` in steps.csv (README, \"Known limitations\")"
+            )
+        })
     }
 
     /// Saves `part` into the trial's undo, unless it is saved already or the trial cannot be

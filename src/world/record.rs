@@ -196,9 +196,10 @@ pub struct StepRecord {
 /// Numerical failure that stops a run.
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
 pub enum StepError {
-    /// A trial of the smallest allowed length failed (math note §10.8).
-    #[error("step {step} failed at dt = {dt:e}: {trouble}")]
-    Failed { step: usize, dt: f64, trouble: super::Trouble },
+    /// A trial of the smallest allowed length failed (math note §10.8). `hint`: what to do
+    /// about a known cause (a contact solve of stiff deformable disks, math note §10.13).
+    #[error("step {step} failed at dt = {dt:e}: {trouble}{}", .hint.as_ref().map(|h| format!("; {h}")).unwrap_or_default())]
+    Failed { step: usize, dt: f64, trouble: super::Trouble, hint: Option<String> },
     #[error("step {step}: {source}")]
     Singular { step: usize, source: FactorError },
 }
