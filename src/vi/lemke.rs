@@ -136,6 +136,7 @@ impl Lcp {
                 m += 3;
             }
         }
+        debug_assert_eq!(m, size, "the size counted before the pass");
         let mut q = vec![0.0; m];
         let mut mat = TriMat::with_capacity((m, m), 4 * w.nnz() + 5 * lambdas.len());
         fill(w, p.q, &vars, &sc, &mut mat, &mut q);
