@@ -123,46 +123,59 @@ fn products_split_only_where_no_row_straddles() {
                 && framed.vals(a).iter().zip(jac.vals(b)).all(|(x, y)| x.to_bits() == y.to_bits())
         });
         assert!(same_segments, "split {split:?}: the frames' segments");
-        let mut diagonal = vec![0.0; jac.rows];
-        let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
-        assert_eq!(part.split, split);
-        let mut serial = vec![0.0; jac.rows];
-        part.add_diagonal(&jac, 0..jac.segments().len(), &mut serial, 0);
-        let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-        assert!(bits(&diagonal, &serial), "split {split:?}: diagonal");
-        let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
-        // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
-        let on = |part: &BodyPart, jac: &Jacobian, threads: usize, clear: bool| {
-            let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
-            let mut out = vec![if clear { f64::NAN } else { 0.0 }; jac.rows];
-            pool.install(|| part.apply(jac, &z, &mut out, clear));
-            out
-        };
-        let (got, w) = (on(&part, &jac, 2, false), super::super::assemble(&jac, &flex, &map));
-        assert!(bits(&on(&part, &jac, 1, false), &got), "split {split:?}: threads");
-        assert!(
-            bits(&on(&part, &jac, 1, true), &got) && bits(&on(&part, &jac, 2, true), &got),
-            "split {split:?}: clearing"
-        );
-        response_matches_the_transpose_product(&part, &jac, &z, &flex, &map);
-        let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
-        let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        for (r, d) in diagonal.iter().enumerate() {
-            let wrr = w.get(r, r).copied().unwrap_or(0.0);
-            assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split:?}, diagonal {r}: {d} vs {wrr}");
-        }
-        let near = |a: &[f64]| a.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale);
-        assert!(near(&got), "split {split:?}: W z");
-        let mut diagonal_f = vec![0.0; jac.rows];
-        let part = BodyPart::new(&framed, Arc::clone(&blocks), &mut diagonal_f);
-        assert_eq!(part.split, frame_split);
-        assert!(bits(&diagonal_f, &diagonal), "split {split:?}: the frames' diagonal");
-        let got = on(&part, &framed, 2, false);
-        assert!(bits(&on(&part, &framed, 1, true), &got), "split {split:?}: the frames' threads");
-        assert!(near(&got), "split {split:?}: the frames' W z");
-        response_matches_the_transpose_product(&part, &framed, &z, &flex, &map);
+        products_match(&jac, &framed, &blocks, (split, frame_split), &flex, &map);
     }
+}
+
+/// The product checks of `products_split_only_where_no_row_straddles` (see there) on B pushed
+/// as segments (`jac`) and as frames (`framed`), with the cuts each should get.
+fn products_match(
+    jac: &Jacobian,
+    framed: &Jacobian,
+    blocks: &Arc<Blocks>,
+    (split, frame_split): (Option<Cut>, Option<Cut>),
+    flex: &Flexibility,
+    map: &DofMap,
+) {
+    let mut diagonal = vec![0.0; jac.rows];
+    let part = BodyPart::new(jac, Arc::clone(blocks), &mut diagonal);
+    assert_eq!(part.split, split);
+    let mut serial = vec![0.0; jac.rows];
+    part.add_diagonal(jac, 0..jac.segments().len(), &mut serial, 0);
+    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
+    assert!(bits(&diagonal, &serial), "split {split:?}: diagonal");
+    let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
+    // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
+    let on = |part: &BodyPart, jac: &Jacobian, threads: usize, clear: bool| {
+        let pool = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
+        let mut out = vec![if clear { f64::NAN } else { 0.0 }; jac.rows];
+        pool.install(|| part.apply(jac, &z, &mut out, clear));
+        out
+    };
+    let (got, w) = (on(&part, jac, 2, false), super::super::assemble(jac, flex, map));
+    assert!(bits(&on(&part, jac, 1, false), &got), "split {split:?}: threads");
+    assert!(
+        bits(&on(&part, jac, 1, true), &got) && bits(&on(&part, jac, 2, true), &got),
+        "split {split:?}: clearing"
+    );
+    response_matches_the_transpose_product(&part, jac, &z, flex, map);
+    let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
+    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    for (r, d) in diagonal.iter().enumerate() {
+        let wrr = w.get(r, r).copied().unwrap_or(0.0);
+        assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split:?}, diagonal {r}: {d} vs {wrr}");
+    }
+    let near = |a: &[f64]| a.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale);
+    assert!(near(&got), "split {split:?}: W z");
+    let mut diagonal_f = vec![0.0; jac.rows];
+    let part = BodyPart::new(framed, Arc::clone(blocks), &mut diagonal_f);
+    assert_eq!(part.split, frame_split);
+    assert!(bits(&diagonal_f, &diagonal), "split {split:?}: the frames' diagonal");
+    let got = on(&part, framed, 2, false);
+    assert!(bits(&on(&part, framed, 1, true), &got), "split {split:?}: the frames' threads");
+    assert!(near(&got), "split {split:?}: the frames' W z");
+    response_matches_the_transpose_product(&part, framed, &z, flex, map);
 }
 
 /// The response checks of `products_split_only_where_no_row_straddles` (see there).
