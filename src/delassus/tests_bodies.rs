@@ -8,6 +8,16 @@ use crate::geometry::{Vec2, cw};
 use crate::jacobian::Piece;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 
+/// Whether a and b have the same length and the same bits entry by entry.
+fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// The largest |x| of v (0 for an empty v).
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
 /// Disks of radius 0.5 in a row, one apart, of the given models: the bodies, their DOF map and
 /// flexibility (each disk its own cluster).
 fn disks(models: &[BodyModel]) -> (Vec<Body>, DofMap, Flexibility) {
@@ -115,12 +125,12 @@ fn products_split_only_where_no_row_straddles() {
             (jac, q)
         };
         let ((jac, q), (framed, q_framed)) = (build(false), build(true));
-        assert!(q.iter().zip(&q_framed).all(|(a, b)| a.to_bits() == b.to_bits()), "split {split:?}: B v");
+        assert!(same_bits(&q, &q_framed), "split {split:?}: B v");
         assert_eq!(framed.frames().len(), frames, "split {split:?}: framed");
         assert_eq!(framed.len(), jac.len());
         let same_segments = framed.segments().iter().zip(jac.segments()).all(|(a, b)| {
             (a.row(), a.cluster(), a.dofs()) == (b.row(), b.cluster(), b.dofs())
-                && framed.vals(a).iter().zip(jac.vals(b)).all(|(x, y)| x.to_bits() == y.to_bits())
+                && same_bits(framed.vals(a), jac.vals(b))
         });
         assert!(same_segments, "split {split:?}: the frames' segments");
         products_match(&jac, &framed, &blocks, (split, frame_split), &flex, &map);
@@ -142,8 +152,7 @@ fn products_match(
     assert_eq!(part.split, split);
     let mut serial = vec![0.0; jac.rows];
     part.add_diagonal(jac, 0..jac.segments().len(), &mut serial, 0);
-    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&diagonal, &serial), "split {split:?}: diagonal");
+    assert!(same_bits(&diagonal, &serial), "split {split:?}: diagonal");
     let z: Vec<f64> = (0..jac.rows).map(|r| ((r * 37) % 101) as f64 / 101.0 - 0.3).collect();
     // adding to zeros, or clearing a vector of NaN first (a row it missed would stay NaN)
     let on = |part: &BodyPart, jac: &Jacobian, threads: usize, clear: bool| {
@@ -153,15 +162,15 @@ fn products_match(
         out
     };
     let (got, w) = (on(&part, jac, 2, false), super::super::assemble(jac, flex, map));
-    assert!(bits(&on(&part, jac, 1, false), &got), "split {split:?}: threads");
+    assert!(same_bits(&on(&part, jac, 1, false), &got), "split {split:?}: threads");
     assert!(
-        bits(&on(&part, jac, 1, true), &got) && bits(&on(&part, jac, 2, true), &got),
+        same_bits(&on(&part, jac, 1, true), &got) && same_bits(&on(&part, jac, 2, true), &got),
         "split {split:?}: clearing"
     );
     response_matches_the_transpose_product(&part, jac, &z, flex, map);
     let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, v)| v * z[c]).sum()).collect();
-    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let dmax = diagonal.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&want);
+    let dmax = max_abs(&diagonal);
     for (r, d) in diagonal.iter().enumerate() {
         let wrr = w.get(r, r).copied().unwrap_or(0.0);
         assert!((d - wrr).abs() <= 1e-12 * dmax, "split {split:?}, diagonal {r}: {d} vs {wrr}");
@@ -171,9 +180,9 @@ fn products_match(
     let mut diagonal_f = vec![0.0; jac.rows];
     let part = BodyPart::new(framed, Arc::clone(blocks), &mut diagonal_f);
     assert_eq!(part.split, frame_split);
-    assert!(bits(&diagonal_f, &diagonal), "split {split:?}: the frames' diagonal");
+    assert!(same_bits(&diagonal_f, &diagonal), "split {split:?}: the frames' diagonal");
     let got = on(&part, framed, 2, false);
-    assert!(bits(&on(&part, framed, 1, true), &got), "split {split:?}: the frames' threads");
+    assert!(same_bits(&on(&part, framed, 1, true), &got), "split {split:?}: the frames' threads");
     assert!(near(&got), "split {split:?}: the frames' W z");
     response_matches_the_transpose_product(&part, framed, &z, flex, map);
 }
@@ -196,12 +205,11 @@ fn response_matches_the_transpose_product(
         out
     };
     let got = on(2);
-    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&on(1), &got), "split {:?}: response threads", part.split);
+    assert!(same_bits(&on(1), &got), "split {:?}: response threads", part.split);
     if part.split.is_none() {
-        assert!(bits(&got, &want), "response without halves");
+        assert!(same_bits(&got, &want), "response without halves");
     }
-    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&want);
     assert!(
         got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale),
         "split {:?}: response",
@@ -256,7 +264,7 @@ fn frames_and_segments_side_by_side() {
         a.len() == b.len()
             && a.segments().iter().zip(b.segments()).all(|(s, t)| {
                 (s.row(), s.cluster(), s.dofs()) == (t.row(), t.cluster(), t.dofs())
-                    && a.vals(s).iter().zip(b.vals(t)).all(|(x, y)| x.to_bits() == y.to_bits())
+                    && same_bits(a.vals(s), b.vals(t))
             })
     };
     let as_segments = |all: &[(usize, usize, &[f64])]| {
@@ -276,7 +284,7 @@ fn frames_and_segments_side_by_side() {
     let pieces: Vec<Piece> = mixed.pieces().collect();
     assert_eq!(pieces, [Piece::Frames(0..2), Piece::Segments(0..1), Piece::Frames(2..3)]);
     assert!(same(&mixed, &want), "made from the frames");
-    assert!(q.iter().zip(&q_want).all(|(a, b)| a.to_bits() == b.to_bits()), "B v");
+    assert!(same_bits(&q, &q_want), "B v");
     let mut unframed = mixed.clone();
     unframed.unframe();
     assert_eq!((unframed.frames().len(), unframed.own_segments().len()), (0, 9));
@@ -341,12 +349,11 @@ fn frames_read_beside_a_deformable_body() {
     };
     let ((framed, q_framed), (plain, q)) = (build(true), build(false));
     assert_eq!((framed.frames().len(), plain.frames().len(), framed.len(), plain.len()), (2, 0, 20, 20));
-    let bits = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
-    assert!(bits(&q_framed, &q), "B v");
+    assert!(same_bits(&q_framed, &q), "B v");
     let (mut d_framed, mut d) = (vec![0.0; rows], vec![0.0; rows]);
     let part_framed = BodyPart::new(&framed, Arc::clone(&blocks), &mut d_framed);
     let part = BodyPart::new(&plain, Arc::clone(&blocks), &mut d);
-    assert!(bits(&d_framed, &d) && d.iter().all(|&x| x > 0.0), "diagonal");
+    assert!(same_bits(&d_framed, &d) && d.iter().all(|&x| x > 0.0), "diagonal");
     let z: Vec<f64> = (0..rows).map(|r| 0.3 - 0.1 * r as f64).collect();
     let product = |part: &BodyPart, jac: &Jacobian| {
         let mut out = vec![0.0; rows];
@@ -354,24 +361,24 @@ fn frames_read_beside_a_deformable_body() {
         out
     };
     let got = product(&part_framed, &framed);
-    assert!(bits(&got, &product(&part, &plain)), "W z");
+    assert!(same_bits(&got, &product(&part, &plain)), "W z");
     let w = super::super::assemble(&plain, &flex, &map);
     let want: Vec<f64> = w.outer_iterator().map(|row| row.iter().map(|(c, x)| x * z[c]).sum()).collect();
-    let scale = want.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = max_abs(&want);
     assert!(got.iter().zip(&want).all(|(a, b)| (a - b).abs() <= 1e-12 * scale), "W z against W");
     let response = |part: &BodyPart, jac: &Jacobian| {
         let mut out = vec![0.0; map.total()];
         assert!(part.response(jac, &z, &mut out));
         out
     };
-    assert!(bits(&response(&part_framed, &framed), &response(&part, &plain)), "response");
+    assert!(same_bits(&response(&part_framed, &framed), &response(&part, &plain)), "response");
     let sc: Vec<f64> = (0..rows).map(|r| 1.0 + 0.25 * r as f64).collect();
     let bounds = |part: &BodyPart, jac: &Jacobian| {
         let mut out = vec![0.0; rows];
         part.row_bounds(jac, &sc, &mut out);
         out
     };
-    assert!(bits(&bounds(&part_framed, &framed), &bounds(&part, &plain)), "row bounds");
+    assert!(same_bits(&bounds(&part_framed, &framed), &bounds(&part, &plain)), "row bounds");
 }
 
 /// The body form's blocks brought up to date in place (`Blocks::update`): on a rigid disk, a
@@ -392,13 +399,13 @@ fn blocks_updated_in_place_equal_new_ones() {
     assert!(kept.same_layout(&map, &[true; 3]) && kept.stamps != flex.stamps());
     assert!(kept.update(&flex));
     let new = Blocks::new(&flex, &map, &[true; 3]);
-    let bits =
-        |a: &[f64], b: &[f64]| a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits());
-    assert!(bits(&kept.kinv, &new.kinv) && bits(&kept.root, &new.root) && kept.stamps == new.stamps);
+    assert!(
+        same_bits(&kept.kinv, &new.kinv) && same_bits(&kept.root, &new.root) && kept.stamps == new.stamps
+    );
     let changed: Vec<usize> = (0..3)
         .filter(|&b| {
             let (at, n) = (kept.square[b], kept.n[b]);
-            !bits(&before[at..at + n * n], &kept.kinv[at..at + n * n])
+            !same_bits(&before[at..at + n * n], &kept.kinv[at..at + n * n])
         })
         .collect();
     assert_eq!(changed, [1]);
@@ -461,7 +468,7 @@ fn joined_cluster_in_body_form() {
     let mut diagonal = vec![0.0; rows];
     let part = BodyPart::new(&jac, Arc::clone(&blocks), &mut diagonal);
     let near = |a: &[f64], b: &[f64]| {
-        let scale = b.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let scale = max_abs(b);
         a.iter().zip(b).all(|(x, y)| (x - y).abs() <= 1e-12 * scale)
     };
     assert!(near(&diagonal, dense.diagonal().as_slice()), "diagonal {diagonal:?}");

@@ -54,7 +54,9 @@ impl Basis {
 
     /// Factorizes B afresh from its variables (`basis[k]` is column k: see [`Lcp::column_of`]).
     /// `None` when B is singular (structurally, or a pivot that makes the solve non-finite
-    /// shows it at the next solve).
+    /// shows it at the next solve). After `None` the product form describes no basis (the old
+    /// factor's values are overwritten in place): both callers stop the path at once, and no
+    /// solve may follow.
     pub fn refactor(&mut self, lcp: &Lcp, d: &[f64], basis: &[usize]) -> Option<()> {
         let m = lcp.m;
         self.scratch.clear();
