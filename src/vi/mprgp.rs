@@ -408,31 +408,16 @@ pub(super) fn run<R: Rows>(
             None => Direction::Free,
         };
         set_direction(c, v, direction);
-        let (pap, gp, af) = product(c, v, st);
-        if !(pap.is_finite() && gp.is_finite()) {
-            return Err(Status::NonFinite);
-        }
-        // Exact minimizer along −p (+inf on a direction of zero curvature).
-        let acg = if pap > 0.0 { gp / pap } else { f64::INFINITY };
-        if gp <= 0.0 && !(pap > 0.0) {
-            return Err(Status::Stalled);
-        }
-        if acg.min(af) == f64::INFINITY {
-            // A descent direction of zero curvature that the box does not stop: a ray.
-            return Err(Status::Diverged);
-        }
-        if !proportional {
-            // Proportioning step, kept inside the box.
-            step(c, v, st, acg.min(af));
-            cg = None;
-        } else if acg <= af {
-            step(c, v, st, acg);
-            since_refresh += 1;
-            cg = Some(pap);
-        } else {
-            step(c, v, st, af);
-            abar = Some(expand_step(c, v, st, step_length)?);
-            (since_refresh, cg, swept) = (0, None, true);
+        match step_along(c, v, st, proportional, step_length)? {
+            Stepped::Conjugate(pap) => {
+                since_refresh += 1;
+                cg = Some(pap);
+            }
+            Stepped::Restart => cg = None,
+            Stepped::Expanded(a) => {
+                abar = Some(a);
+                (since_refresh, cg, swept) = (0, None, true);
+            }
         }
         if since_refresh >= REFRESH {
             // (`sweep` also overwrites p with PC's trial point: restart the directions.)
@@ -442,6 +427,51 @@ pub(super) fn run<R: Rows>(
             (since_refresh, cg, swept) = (0, None, true);
         }
     }
+}
+
+/// What a step along −p left behind: CG may go on (with this pᵀŴp), the directions restart
+/// (after a proportioning step), or an expansion step moved y (with ᾱ for the next one); its
+/// projected step ended in a sweep, so its results are in `st`.
+enum Stepped {
+    Conjugate(f64),
+    Restart,
+    Expanded(f64),
+}
+
+/// One step of `run` along −p: a proportioning step (not `proportional`) kept inside the box,
+/// a CG step to the exact minimizer along −p when the box allows it, else a step to the box
+/// followed by an expansion step.
+fn step_along<R: Rows>(
+    c: &Ctx<R>,
+    v: &mut Vectors,
+    st: &mut State,
+    proportional: bool,
+    step_length: &StepLength,
+) -> Result<Stepped, Status> {
+    let (pap, gp, af) = product(c, v, st);
+    if !(pap.is_finite() && gp.is_finite()) {
+        return Err(Status::NonFinite);
+    }
+    // Exact minimizer along −p (+inf on a direction of zero curvature).
+    let acg = if pap > 0.0 { gp / pap } else { f64::INFINITY };
+    if gp <= 0.0 && !(pap > 0.0) {
+        return Err(Status::Stalled);
+    }
+    if acg.min(af) == f64::INFINITY {
+        // A descent direction of zero curvature that the box does not stop: a ray.
+        return Err(Status::Diverged);
+    }
+    Ok(if !proportional {
+        // Proportioning step, kept inside the box.
+        step(c, v, st, acg.min(af));
+        Stepped::Restart
+    } else if acg <= af {
+        step(c, v, st, acg);
+        Stepped::Conjugate(pap)
+    } else {
+        step(c, v, st, af);
+        Stepped::Expanded(expand_step(c, v, st, step_length)?)
+    })
 }
 
 /// ᾱ, the expansion step length, below 2/||Ŵ|| as the method needs: from the bound >= ||Ŵ||

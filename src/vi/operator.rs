@@ -2,7 +2,9 @@
 //! CSR storage when there is one (the solver then copies it once per call, scaled, and fuses
 //! the products with the vector work of each sweep).
 
-use sprs::{CsMat, CsMatView};
+use std::ops::Deref;
+
+use sprs::{CsMatBase, CsMatView};
 
 /// A square, symmetric, positive semidefinite W, seen through its products.
 pub trait Operator: Sync {
@@ -36,37 +38,15 @@ pub trait Operator: Sync {
     }
 }
 
-/// W stored explicitly with both triangles. CSC storage is accepted too: [`Operator::as_csr`]
-/// then reads it as CSR, i.e. returns Wᵀ, which is W for the symmetric matrices the solver
-/// takes (`apply` and `diagonal` use W itself).
-impl Operator for CsMat<f64> {
-    fn dim(&self) -> usize {
-        self.rows()
-    }
-    fn apply(&self, z: &[f64], out: &mut [f64]) {
-        apply_view(self.view(), z, out);
-    }
-    fn diagonal(&self, out: &mut [f64]) {
-        diagonal_view(self.view(), out);
-    }
-    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
-        Some(if self.is_csr() { self.view() } else { self.transpose_view() })
-    }
-    fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
-        gershgorin_rows(self.view(), sc, out);
-        true
-    }
-    fn entries(&self, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) -> bool {
-        entries_view(self.view(), keep, out);
-        true
-    }
-    fn has_entries(&self) -> bool {
-        true
-    }
-}
-
-/// A borrowed explicit W (see the impl for [`CsMat`]).
-impl Operator for CsMatView<'_, f64> {
+/// W stored explicitly with both triangles, owned (`CsMat`) or borrowed (`CsMatView`). CSC
+/// storage is accepted too: [`Operator::as_csr`] then reads it as CSR, i.e. returns Wᵀ, which
+/// is W for the symmetric matrices the solver takes (`apply` and `diagonal` use W itself).
+impl<P, J, D> Operator for CsMatBase<f64, usize, P, J, D>
+where
+    P: Deref<Target = [usize]> + Sync,
+    J: Deref<Target = [usize]> + Sync,
+    D: Deref<Target = [f64]> + Sync,
+{
     fn dim(&self) -> usize {
         self.rows()
     }
