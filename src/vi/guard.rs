@@ -1,8 +1,9 @@
-//! The methods' hand-overs (math note §4.7, §4.8, §4.12): NSGS to Lemke (on small Coulomb
-//! problems) and then PC when its stall guard stops it; MPRGP to NSGS on W's entries, then to
-//! Lemke and PC, when its passes stop short of the tolerance.
+//! The methods' hand-overs (math note §4.7, §4.8, §4.12, §4.13): NSGS to Lemke (on small
+//! Coulomb problems), the cell program (on Coulomb problems Lemke does not solve) and then PC
+//! when its stall guard stops it; MPRGP to NSGS on W's entries, then to the same, when its
+//! passes stop short of the tolerance.
 
-use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, lemke, nsgs};
+use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, cell, lemke, nsgs};
 
 /// The share of the budget MPRGP leaves for its hand-overs (1/2) when NSGS can take them: on
 /// the 1,000 deformable disks' cold steps MPRGP's passes spent the whole budget and ended at
@@ -99,7 +100,8 @@ impl Solver {
         r2
     }
 
-    /// Stall guard (math note §4.7): Lemke's method on problems it takes (§4.12); else PC from
+    /// Stall guard (math note §4.7): Lemke's method and the cell program on problems they take
+    /// (§4.12, §4.13); else PC from
     /// the NSGS iterate with half of what is left of the iteration budget; if that fails, PC
     /// from the caller's warm start with the rest, which is what `method = "pc"` would have run
     /// (a ray of an unbounded problem, say, is judged against the warm start's scale, not
@@ -134,10 +136,12 @@ impl Solver {
         r2
     }
 
-    /// Lemke's method (math note §4.12) after the other methods, on problems it takes: the
-    /// report when it meets the tolerance, z then its answer, counting the passes and iterations
-    /// `before` it (one pass more, its pivots as iterations, within what is left of the budget)
-    /// and the products made before it; `None` otherwise, with z and the stats untouched.
+    /// Lemke's method (math note §4.12) after the other methods, on problems it takes, and where
+    /// it gives no answer the cell program from z (§4.13, while the budget has iterations
+    /// left): the report when one meets the tolerance, z then its answer, counting the passes and
+    /// iterations `before` it (one pass more, Lemke's pivots as iterations, within what is left
+    /// of the budget; the program counts none) and the products made before it; `None`
+    /// otherwise, with z and the stats untouched.
     #[allow(clippy::too_many_arguments)]
     fn pivot(
         &mut self,
@@ -153,7 +157,22 @@ impl Solver {
         let check = &mut self.check;
         let mut measure = |x: &[f64]| check.residual(p, rule, x, opts);
         let limits = (opts.tolerance, budget);
-        let (pivots, residual) = lemke::solve(w, p, rule, z, limits, &mut measure, &mut self.best)?;
+        let (pivots, residual) = match lemke::solve(w, p, rule, z, limits, &mut measure, &mut self.best) {
+            Some(done) => done,
+            // the cell program from the stalled iterate (math note §4.13), taken if it meets the
+            // tolerance and offered to the chain's best answer either way
+            None if budget > 0 => {
+                let answer = cell::answer(w, p, rule, z)?;
+                let residual = measure(&answer);
+                self.best.offer(residual, &answer);
+                if residual > opts.tolerance {
+                    return None;
+                }
+                z.copy_from_slice(&answer);
+                (0, residual)
+            }
+            None => return None,
+        };
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
         let (outer_iterations, inner_iterations) = (before.0 + 1, before.1 + pivots);
         Some(Report { outer_iterations, inner_iterations, residual, converged: true })

@@ -21,7 +21,7 @@
 //! ends when its path comes back to a basis) bound the time a solve that fails can take.
 
 use super::guard::Best;
-use super::{BoundRule, Problem};
+use super::{BlockLaw, BoundRule, Problem};
 use sprs::{CsMat, CsMatView, TriMat};
 
 mod basis;
@@ -92,6 +92,13 @@ pub(super) fn solve(
     None
 }
 
+/// Whether a block of `rows` rows with this law has the LCP's form: no tension, no cohesion
+/// that an open contact loses (a = a_open), b >= 0, one normal row and up to two bounded ones.
+pub(super) fn takes(law: &BlockLaw, rows: usize) -> bool {
+    let plain = law.tension == 0.0 && law.a == law.a_open;
+    plain && (1..=3).contains(&rows) && law.b.iter().all(|b| *b >= 0.0)
+}
+
 /// Covering vector k, entry i: k = 0 gives ones; later ones spread over [0.5, 1.5) by the
 /// golden-ratio sequence (deterministic), which breaks the ties of a degenerate q.
 fn covering(i: usize, k: usize) -> f64 {
@@ -123,8 +130,7 @@ impl Lcp {
         for (k, b) in p.blocks.windows(2).enumerate() {
             let law = rule.block_law(k, z)?;
             let rows = b[1] - b[0];
-            let plain = law.tension == 0.0 && law.a == law.a_open;
-            if !(plain && (1..=3).contains(&rows) && law.b.iter().all(|b| *b >= 0.0)) {
+            if !takes(&law, rows) {
                 return None;
             }
             vars[b[0]] = (m, usize::MAX);

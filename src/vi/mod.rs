@@ -109,6 +109,7 @@
 //! matrix its compressed storage reads the same as CSR). Symmetry and semidefiniteness are
 //! not checked (PC only needs monotonicity of G).
 
+mod cell;
 mod face;
 mod guard;
 mod lemke;
