@@ -159,18 +159,7 @@ impl Solver {
         let limits = (opts.tolerance, budget);
         let (pivots, residual) = match lemke::solve(w, p, rule, z, limits, &mut measure, &mut self.best) {
             Some(done) => done,
-            // the cell program from the stalled iterate (math note §4.13), taken if it meets the
-            // tolerance and offered to the chain's best answer either way
-            None if budget > 0 => {
-                let answer = cell::answer(w, p, rule, z)?;
-                let residual = measure(&answer);
-                self.best.offer(residual, &answer);
-                if residual > opts.tolerance {
-                    return None;
-                }
-                z.copy_from_slice(&answer);
-                (0, residual)
-            }
+            None if budget > 0 => (0, cell::solve(w, p, rule, z, opts, &mut measure, &mut self.best)?),
             None => return None,
         };
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };
