@@ -76,7 +76,8 @@ pub(super) fn solve(
         if second {
             start = cold_start(w, p, rule, opts);
         }
-        let Some(answer) = answer(w, p, rule, &start) else { continue };
+        // a problem the program does not take (or gives no point for) costs no second start
+        let answer = answer(w, p, rule, &start)?;
         let residual = measure(&answer);
         best.offer(residual, &answer);
         if residual <= opts.tolerance {
