@@ -23,17 +23,17 @@
 //! "Two starts"), and a problem whose two cells both miss the tolerance still fails.
 
 use super::guard::Best;
-use super::{BoundRule, Options, Problem, Stats, lemke, nsgs};
+use super::{BoundRule, Operator, Options, Problem, Stats, lemke, nsgs};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT};
 use sprs::{CsMatView, TriMat};
 
 /// Largest problem taken (rows of W): a program of the 1,000 deformable disks' 5,872 rows takes
 /// about 10 s, one of 562 rows 0.1 s.
-pub(super) const MAX_ROWS: usize = 8_000;
+const MAX_ROWS: usize = 8_000;
 
 /// NSGS sweeps from zero that make the second start (math note §4.13, "Two starts").
-pub(super) const COLD_SWEEPS: usize = 10_000;
+const COLD_SWEEPS: usize = 10_000;
 
 /// Interior-point iterations at most: the 1,000-disk programs end in 55–80.
 const MAX_ITER: u32 = 200;
@@ -117,7 +117,8 @@ pub(super) fn answer(
         return None;
     }
     let bounded = laws(p, rule, start)?;
-    let d: Vec<f64> = (0..n).map(|i| w.get(i, i).copied().unwrap_or(0.0)).collect();
+    let mut d = vec![0.0; n];
+    w.diagonal(&mut d);
     if !d.iter().all(|d| d.is_finite() && *d > 0.0) || !w.data().iter().all(|v| v.is_finite()) {
         return None;
     }

@@ -138,7 +138,7 @@ impl Solver {
 
     /// Lemke's method (math note §4.12) after the other methods, on problems it takes, and where
     /// it gives no answer the cell program from z (§4.13, while the budget has iterations
-    /// left): the report when one meets the tolerance, z then its answer, counting the passes and
+    /// left, unless `opts.cell` is off): the report when one meets the tolerance, z then its answer, counting the passes and
     /// iterations `before` it (one pass more, Lemke's pivots as iterations, within what is left
     /// of the budget; the program counts none) and the products made before it; `None`
     /// otherwise, with z and the stats untouched.
@@ -159,7 +159,9 @@ impl Solver {
         let limits = (opts.tolerance, budget);
         let (pivots, residual) = match lemke::solve(w, p, rule, z, limits, &mut measure, &mut self.best) {
             Some(done) => done,
-            None if budget > 0 => (0, cell::solve(w, p, rule, z, opts, &mut measure, &mut self.best)?),
+            None if budget > 0 && opts.cell => {
+                (0, cell::solve(w, p, rule, z, opts, &mut measure, &mut self.best)?)
+            }
             None => return None,
         };
         self.stats = Stats { status: Status::Converged, fallbacks: 1, pivots, products, ..Stats::default() };

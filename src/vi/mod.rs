@@ -256,6 +256,10 @@ pub struct Options {
     /// A run cut short by the iteration cap or a stall within the tolerance still converges.
     /// 1 stops at the tolerance itself.
     pub aim: f64,
+    /// Whether the hand-overs may end in the cell program (math note §4.13), which costs wall
+    /// time outside the iteration budget (default true). A solve whose miss is dropped anyway,
+    /// the cold step's continuation (§10.11), sets it false.
+    pub cell: bool,
 }
 
 impl Default for Options {
@@ -268,6 +272,7 @@ impl Default for Options {
             gap_tolerance: f64::INFINITY,
             force_scale: 0.0,
             aim: AIM,
+            cell: true,
         }
     }
 }

@@ -161,8 +161,10 @@ impl Runner<'_> {
             tolerance: self.opts.tolerance * factor,
             gap_tolerance: self.opts.gap_tolerance * factor,
             max_iterations: first.inner_iterations.max(MIN_CONTINUATION),
-            // the continuation is itself the tightening: it stops at its tolerance
+            // the continuation is itself the tightening: it stops at its tolerance; its miss
+            // is dropped, so it does not pay for the cell program (math note §4.13)
             aim: 1.0,
+            cell: false,
             ..self.opts
         };
         let more = self.pipeline.vi.solve(problem, rule, z, &tight);
@@ -231,6 +233,7 @@ impl World {
             gap_tolerance: self.model.solver.tolerance * self.feature,
             force_scale: self.force_scale(),
             aim: self.settings.aim,
+            cell: true,
         };
         // a cold step (math note §10.11): its error becomes the motion later steps inherit
         let factor = self.settings.cold_tightening;
