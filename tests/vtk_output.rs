@@ -1,16 +1,16 @@
 //! ParaView output (scene-format "Outputs", VTK data table): short runs of the paper examples
 //! write `vtk/scene.pvd` and one `.vtu` per written step; each file is read back (by the
-//! reader below, from the layout VTK's XML format gives the raw appended data: a UInt64 byte
-//! count, then the values, at the `offset` of each `DataArray` after the `_` that opens the
-//! data) and compared with the CSVs written in the same run. VTK's own reader was run on the
-//! files too, once, by `scripts/check-vtu.py` (it needs the Python `vtk` package, so it is not a
-//! test; its result is in the script's header).
+//! reader below, from the layout VTK's XML format gives base64 appended data: the base64 of a
+//! UInt64 byte count and the values, at the `offset` of each `DataArray` after the `_` that
+//! opens the data) and compared with the CSVs written in the same run, and read again by vtkio (a VTK
+//! reader that is not ours) to the same points, cells and arrays. VTK's own reader and meshio
+//! read every example's files in `.ci/run` (`scripts/check-vtu.py`, Python).
 //!
 //! Where the expected numbers come from:
 //! - cell and point counts: the contract (one cell per body, one line per contact row of
 //!   contacts.csv and per connector row of connectors.csv at that step, one triangle per mesh
-//!   element on the mesh's nodes) and the display tessellation (64-gon disks, rings as a strip
-//!   of 2 × 64 points, polygons by their vertex count in the scene); every example is run;
+//!   element on the mesh's nodes) and the display tessellation (64-gon disks, rings as a
+//!   keyhole polygon on 2 × 64 points, polygons by their vertex count in the scene); every example is run;
 //! - values: the CSV columns of the same step, parsed back. Both files are written from the
 //!   same f64 (CSV in shortest round-trip form, VTK as binary f64), so they must agree
 //!   exactly;
@@ -35,13 +35,12 @@ use std::path::{Path, PathBuf};
 enum CellType {
     Line = 3,
     Triangle = 5,
-    TriangleStrip = 6,
     Polygon = 7,
 }
 
 impl CellType {
     fn of(code: f64) -> CellType {
-        let all = [CellType::Line, CellType::Triangle, CellType::TriangleStrip, CellType::Polygon];
+        let all = [CellType::Line, CellType::Triangle, CellType::Polygon];
         all.into_iter().find(|&t| t as u8 as f64 == code).unwrap_or_else(|| panic!("cell type {code}"))
     }
 }
@@ -56,12 +55,12 @@ fn attribute<'a>(tag: &'a str, key: &str) -> &'a str {
 /// and values.
 type Array = (String, String, Vec<f64>);
 
-/// The arrays of a `.vtu` file with raw appended data, as f64, and the piece's point and cell
-/// counts.
+/// The arrays of a `.vtu` file with base64 appended data, as f64, and the piece's point and
+/// cell counts.
 fn read_vtu(path: &Path) -> (Vec<Array>, usize, usize) {
     let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let open = b"<AppendedData encoding=\"raw\">";
-    let at = bytes.windows(open.len()).position(|w| w == open).expect("raw appended data");
+    let open = b"<AppendedData encoding=\"base64\">";
+    let at = bytes.windows(open.len()).position(|w| w == open).expect("base64 appended data");
     let head = std::str::from_utf8(&bytes[..at]).expect("UTF-8 header");
     assert!(head.contains("byte_order=\"LittleEndian\" header_type=\"UInt64\""), "{head}");
     let data = at + open.len() + bytes[at + open.len()..].iter().position(|&b| b == b'_').expect("_") + 1;
@@ -77,14 +76,16 @@ fn read_vtu(path: &Path) -> (Vec<Array>, usize, usize) {
             continue;
         }
         assert_eq!(attribute(tag, "format"), "appended", "{tag}");
+        if section == "Cells" && attribute(tag, "Name") != "types" {
+            // VTK's vtkIdType is signed, and meshio casts ids to a signed type: unsigned ids fail there
+            assert!(["Int32", "Int64"].contains(&attribute(tag, "type")), "signed ids: {tag}");
+        }
         let start = data + attribute(tag, "offset").parse::<usize>().expect("offset");
-        let len = u64::from_le_bytes(bytes[start..start + 8].try_into().unwrap()) as usize;
-        let block = &bytes[start + 8..start + 8 + len];
+        let block = decode_block(&bytes[start..]);
         let values: Vec<f64> = match attribute(tag, "type") {
             "Float64" => block.chunks(8).map(|c| f64::from_le_bytes(c.try_into().unwrap())).collect(),
             "Int32" => block.chunks(4).map(|c| i32::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
-            "UInt64" => block.chunks(8).map(|c| u64::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
-            "UInt32" => block.chunks(4).map(|c| u32::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
+            "Int64" => block.chunks(8).map(|c| i64::from_le_bytes(c.try_into().unwrap()) as f64).collect(),
             "UInt8" => block.iter().map(|&b| b as f64).collect(),
             other => panic!("type {other}"),
         };
@@ -93,6 +94,19 @@ fn read_vtu(path: &Path) -> (Vec<Array>, usize, usize) {
         arrays.push((section.to_string(), attribute(tag, "Name").to_string(), values));
     }
     (arrays, count("NumberOfPoints"), count("NumberOfCells"))
+}
+
+/// One appended block: base64 of its UInt64 byte count and its values, encoded together (VTK's
+/// layout for uncompressed appended data); the values' bytes.
+fn decode_block(text: &[u8]) -> Vec<u8> {
+    use base64::Engine;
+    let b64 = base64::engine::general_purpose::STANDARD;
+    let head = b64.decode(&text[..12]).expect("base64 block header");
+    let len = u64::from_le_bytes(head[..8].try_into().unwrap()) as usize;
+    let chars = (8 + len).div_ceil(3) * 4;
+    let block = b64.decode(&text[..chars]).expect("base64 block");
+    assert_eq!(block.len(), 8 + len, "block length");
+    block[8..].to_vec()
 }
 
 fn example(name: &str) -> Model {
@@ -157,7 +171,33 @@ impl Step {
         assert_eq!((cells.len(), types.len()), (nc, nc));
         let displacement = take("PointData", "displacement").unwrap_or_default();
         let arrays = arrays.into_iter().filter(|(s, _, _)| s == "CellData").map(|(_, n, v)| (n, v)).collect();
-        Step { points, cells, types, arrays, displacement }
+        let step = Step { points, cells, types, arrays, displacement };
+        step.same_as_vtkio(path);
+        step
+    }
+
+    /// vtkio, a VTK reader that is not ours, reads `path` to the same points, cells and cell
+    /// arrays (values compared exactly: both decode the same bytes).
+    fn same_as_vtkio(&self, path: &Path) {
+        use vtkio::model::{Attribute, DataArray, DataSet, Vtk};
+        let vtk = Vtk::import(path).unwrap_or_else(|e| panic!("vtkio, {}: {e:?}", path.display()));
+        let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else { panic!("not a grid") };
+        assert_eq!(pieces.len(), 1);
+        let piece = pieces.into_iter().next().unwrap().into_loaded_piece_data(None).expect("piece");
+        let points: Vec<f64> = piece.points.cast_into().expect("points");
+        let ours: Vec<f64> = self.points.iter().flat_map(|p| [p.x, p.y, 0.0]).collect();
+        assert_eq!(points, ours, "vtkio points");
+        let (connectivity, offsets) = piece.cells.cell_verts.into_xml();
+        let ends: Vec<usize> = self.cells.iter().scan(0, |n, c| Some(*n + c.len()).inspect(|e| *n = *e)).collect();
+        assert_eq!(offsets.iter().map(|&o| o as usize).collect::<Vec<_>>(), ends, "vtkio offsets");
+        let ids: Vec<usize> = self.cells.iter().flatten().copied().collect();
+        assert_eq!(connectivity.iter().map(|&i| i as usize).collect::<Vec<_>>(), ids, "vtkio connectivity");
+        assert_eq!(piece.data.cell.len(), self.arrays.len(), "vtkio cell arrays");
+        for a in &piece.data.cell {
+            let Attribute::DataArray(DataArray { name, data, .. }) = a else { panic!("field data") };
+            let values: Vec<f64> = data.clone().cast_into().expect("numbers");
+            assert_eq!(values, self.array(name), "vtkio {name}");
+        }
     }
 
     fn array(&self, name: &str) -> &[f64] {
@@ -283,10 +323,11 @@ fn check_bodies(step: &Step, t: &Table, rows: &[Vec<String>], world: &World, s: 
                 pts.iter().sum::<Vec2>() / pts.len() as f64
             }
             pbdda::body::Outline::Ring { .. } => {
-                assert_eq!(step.types[i], CellType::TriangleStrip);
-                // the strip repeats its first pair to close: 130 ids over 128 points
+                assert_eq!(step.types[i], CellType::Polygon);
+                // the keyhole: 64 outer ids, the first again, 64 inner ids, the inner first again
                 assert_eq!(pts.len(), 130);
-                pts[..128].iter().sum::<Vec2>() / 128.0
+                assert_eq!((pts[0], pts[65]), (pts[64], pts[129]));
+                pts[..64].iter().chain(&pts[65..129]).sum::<Vec2>() / 128.0
             }
         };
         let scale = b.reach.max(x.abs()).max(y.abs());

@@ -2,22 +2,22 @@
 //! indexing one XML UnstructuredGrid `step_NNNNNN.vtu` per written step (the steps the CSVs
 //! write: every N-th and the last).
 //!
-//! Written by hand as VTK's XML format with its data appended raw (`<AppendedData
-//! encoding="raw">`, UInt64 block headers, little-endian: VTK's appended layout unencoded, as
-//! its writers give it with base64 encoding turned off; point ids and offsets as UInt32 while
-//! they fit), streamed from the grid's arrays
-//! through a buffered writer; the grid's storage is kept from step to step. vtkio 0.7, used
-//! before, writes only inline base64, passes that text through its XML escaping and builds each
-//! file in memory first: on the 10,000-disk pile that took 320 ms of every written step (37 MB
-//! of file) against 13 ms for the step itself. `scripts/check-vtu.py` reads the files with
-//! VTK's own reader. The `.pvd` collection is a few lines of XML, written to a temporary file
-//! renamed over the old one after every step, so it is always a valid index of the steps on
-//! disk.
+//! Written by hand as VTK's XML format with its data appended (`<AppendedData
+//! encoding="base64">`, UInt64 block headers, little-endian, each block's header and values
+//! encoded together, as VTK, meshio and vtkio all read it; meshio and vtkio read no raw appended
+//! data), point ids and offsets as Int32 while they fit, else Int64 (VTK's id type is signed,
+//! and meshio casts ids to a signed type), streamed from the grid's arrays through a buffered
+//! writer; the grid's storage is kept from step to step. `benches/output.rs` measures it.
+//! `scripts/check-vtu.py` reads the files with VTK's own reader and with meshio (`.ci/run` runs
+//! it on every example). The `.pvd` collection is a few lines of XML, written to a temporary
+//! file renamed over the old one after every step, so it is always a valid index of the steps
+//! on disk.
 //!
 //! Cells of one step, in this order:
-//! - one cell per body: a disk is a 64-gon (`VTK_POLYGON`, display only), a ring a closed
-//!   triangle strip (`VTK_TRIANGLE_STRIP`) between its 64-gon outer and inner circles (VTK
-//!   polygons have no holes; a strip keeps one cell per body), a polygon its current vertices;
+//! - one cell per body: a disk is a 64-gon (`VTK_POLYGON`, display only), a ring a keyhole
+//!   polygon (`VTK_POLYGON`: its 64-gon outer circle, a bridge, its inner circle the other way
+//!   round; VTK polygons have no holes, and meshio reads no triangle strips), a polygon its
+//!   current vertices;
 //! - one line (`VTK_LINE`) per contact, joining the two bodies' sides of the contact: the
 //!   contact point C (midpoint of the two surface points) ± gap/2 along the normal, first the
 //!   side of body B (C − g/2 n), then the side of body A (C + g/2 n), since n points into A;
@@ -49,7 +49,6 @@ use std::path::{Path, PathBuf};
 enum CellType {
     Line = 3,
     Triangle = 5,
-    TriangleStrip = 6,
     Polygon = 7,
 }
 
@@ -234,12 +233,13 @@ pub fn add_bodies(grid: &mut Grid, world: &World) {
                 // the outer circle's points, then the inner's
                 let o = grid.points(circle_points(b.centroid, *outer, b.rotation));
                 let n = grid.points(circle_points(b.centroid, *inner, b.rotation));
-                // outer/inner alternating, closed by repeating the first pair
-                let strip = (0..=CIRCLE_SEGMENTS as u64).flat_map(|k| {
-                    let k = k % CIRCLE_SEGMENTS as u64;
-                    [o + k, n + k]
-                });
-                grid.cell(strip, CellType::TriangleStrip, values);
+                // a keyhole polygon: the outer circle ccw and back to its first point, across
+                // to the inner circle's first point, the inner circle cw and back to its first
+                // point; the bridge's two edges coincide, so the polygon covers the annulus
+                let m = CIRCLE_SEGMENTS as u64;
+                let outer = (0..=m).map(|k| o + k % m);
+                let inner = (0..=m).map(|k| n + (m - k) % m);
+                grid.cell(outer.chain(inner), CellType::Polygon, values);
             }
             Outline::Polygon { vertices, .. } => {
                 let first = grid.points(vertices.iter().copied());
@@ -315,7 +315,7 @@ struct Array<'a> {
 enum Values<'a> {
     F64(std::borrow::Cow<'a, [f64]>),
     I32(Vec<i32>),
-    /// Point ids and offsets: UInt32 while every value fits (half the bytes), else UInt64.
+    /// Point ids and offsets: Int32 while every value fits (half the bytes), else Int64.
     Ids(&'a [u64], bool),
     U8(Vec<u8>),
 }
@@ -325,8 +325,8 @@ impl Values<'_> {
         match self {
             Values::F64(_) => "Float64",
             Values::I32(_) => "Int32",
-            Values::Ids(_, true) => "UInt64",
-            Values::Ids(_, false) => "UInt32",
+            Values::Ids(_, true) => "Int64",
+            Values::Ids(_, false) => "Int32",
             Values::U8(_) => "UInt8",
         }
     }
@@ -341,14 +341,21 @@ impl Values<'_> {
         }
     }
 
-    /// The block of the appended data: its size (UInt64), then its values, little-endian.
+    /// The block of the appended data: its size (UInt64), then its values, little-endian,
+    /// base64-encoded together as one stream (padded at the block's end).
     fn write(&self, w: &mut impl Write, buf: &mut Vec<u8>) -> std::io::Result<()> {
+        let mut w = base64::write::EncoderWriter::new(w, &base64::engine::general_purpose::STANDARD);
+        self.write_raw(&mut w, buf)?;
+        w.finish().map(|_| ())
+    }
+
+    fn write_raw(&self, w: &mut impl Write, buf: &mut Vec<u8>) -> std::io::Result<()> {
         w.write_all(&(self.bytes() as u64).to_le_bytes())?;
         match self {
             Values::F64(v) => write_le(w, buf, v, |x| x.to_le_bytes()),
             Values::I32(v) => write_le(w, buf, v, |x| x.to_le_bytes()),
-            Values::Ids(v, true) => write_le(w, buf, v, |x| x.to_le_bytes()),
-            Values::Ids(v, false) => write_le(w, buf, v, |x| (x as u32).to_le_bytes()),
+            Values::Ids(v, true) => write_le(w, buf, v, |x| (x as i64).to_le_bytes()),
+            Values::Ids(v, false) => write_le(w, buf, v, |x| (x as i32).to_le_bytes()),
             Values::U8(v) => w.write_all(v),
         }
     }
@@ -396,7 +403,7 @@ impl Grid {
             self.displacement.iter().map(|d| array("displacement", 3, Values::F64(d.into()))).collect();
         let points = [array("Points", 3, Values::F64((&self.points[..]).into()))];
         // every id is below the point count, every offset at most the connectivity's length
-        let wide = self.num_points().max(self.connectivity.len()) > u32::MAX as usize;
+        let wide = self.num_points().max(self.connectivity.len()) > i32::MAX as usize;
         let cells = [
             array("connectivity", 1, Values::Ids(&self.connectivity, wide)),
             array("offsets", 1, Values::Ids(&self.offsets, wide)),
@@ -424,11 +431,11 @@ impl Grid {
                     w,
                     "        <DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{n}\" format=\"appended\" offset=\"{offset}\"/>"
                 )?;
-                offset += 8 + a.values.bytes();
+                offset += (8 + a.values.bytes()).div_ceil(3) * 4;
             }
             writeln!(w, "      </{tag}>")?;
         }
-        writeln!(w, "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">")?;
+        writeln!(w, "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"base64\">")?;
         w.write_all(b"_")?;
         let mut buf = Vec::with_capacity(8 * 4096);
         for (_, _, arrays) in sections {
