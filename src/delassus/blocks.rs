@@ -12,8 +12,7 @@ pub(super) const NONE: u32 = u32::MAX;
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
 /// from the factors once and kept across steps while the DOF ranges stay the same
 /// ([`Blocks::same_layout`]), the blocks of a factor replaced since copied again
-/// ([`Blocks::update`]; math note §3.3). On a pile of rigid disks that is the whole run; the
-/// copy each step cost 30–60 µs of a 1.4 ms fixed work on the 1,000-disk pile.
+/// ([`Blocks::update`]; math note §3.3). On a pile of rigid disks that is the whole run.
 #[derive(Debug, Default)]
 pub(super) struct Blocks {
     /// The stamps of the factors copied ([`Flexibility::stamps`]).
@@ -100,8 +99,7 @@ impl Blocks {
     }
 
     /// Copies R_c of cluster `c` (in body form) from the flexibility: the leading n × n block,
-    /// column by column (a flat_map over entries cost 0.7 M instructions of a 21 M warm step on
-    /// the 1,000-disk pile).
+    /// column by column (cheaper than a flat_map over the entries).
     fn copy_root(&mut self, flex: &Flexibility, c: usize) -> Option<()> {
         let (b, (r, stride)) = (self.compact[c] as usize, flex.body_root(c)?);
         let (n, at) = (self.n[b], self.square[b]);

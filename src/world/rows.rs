@@ -191,8 +191,7 @@ impl World {
             }
             for (row, dir) in [(r, n), (r + 1, tau)] {
                 if len == 3 {
-                    // a rigid body (no strain columns to zero), unrolled: 0.4 M instructions of
-                    // a warm step of the 1,000-disk pile
+                    // a rigid body (no strain columns to zero), unrolled
                     jac.push_apply(row, cluster, range.start, &b.rigid_row(x, dir, sign), df, q);
                     continue;
                 }
@@ -215,9 +214,8 @@ impl World {
 /// The contact frame of a contact with no rolling row whose moving bodies are rigid (at least
 /// one), and their clusters: the rows `push_contact` pushes for it, as one frame
 /// (`jacobian::Frame`); `None` for any other contact. Inlined: returned through memory, the
-/// result was written by stores that the caller's wider loads could not forward from in one
-/// build (the 48-byte `Law` experiment of math note §3.3), and the rows stage went ×1.5 with
-/// the same instructions.
+/// result can be written by stores that the caller's wider loads cannot forward from (a
+/// store-forwarding stall; math note §3.3, "Per-body tables").
 #[inline(always)]
 fn frame(c: &Brief, l: &Linearization, sites: &[Site]) -> Option<(Frame, [usize; 2])> {
     if c.rolling() {

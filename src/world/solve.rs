@@ -192,8 +192,8 @@ impl World {
     /// A force the contacts may legitimately carry this step, for the solver's divergence test
     /// (math note §4.9): the weight, applied loads and momentum per step of every free body.
     /// Speeds are √(u² + v²), not libm's `hypot`, whose care against overflow (from 1e154 m/s,
-    /// where a run has long failed its motion checks) cost about 10 µs of a warm step of the
-    /// 1,000-disk pile; the scale only sets a threshold, which moves by an ulp.
+    /// where a run has long failed its motion checks) costs time in every step; the scale only
+    /// sets a threshold, which moves by an ulp.
     fn force_scale(&self) -> f64 {
         let g = self.model.physics.gravity.norm();
         let h = self.h;
