@@ -25,8 +25,8 @@ pub(super) struct Blocks {
     /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
     /// (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from `kinv[square[b]..]` and
     /// `root[square[b]..]`, both laid out as the flexibility's packed K̃_c⁻¹ of the closed-form
-    /// clusters ([`Flexibility::closed`]). (A copy: shared, the flexibility copied all of it
-    /// whenever one factor changed, since the blocks still held the old values.)
+    /// clusters ([`Flexibility::closed`]). (A copy: were it shared, the flexibility would copy
+    /// all of it whenever one factor changed, since the blocks would still hold the old values.)
     pub(super) start: Vec<usize>,
     pub(super) n: Vec<usize>,
     pub(super) square: Vec<usize>,

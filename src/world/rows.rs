@@ -36,8 +36,8 @@ impl Linearization {
 /// What a contact frame reads of one of its bodies, in 24 bytes: the body's step-start centroid
 /// and, for a rigid body, its first DOF and cluster. Made in detection's pass over the bodies.
 /// The rows read two per contact, scattered. Read through the bodies (336 bytes apiece) and the
-/// DOF map's three tables, that was four or five cache lines per body, which on the
-/// 10,000-disk pile no longer stayed in the caches between the contacts that share a body.
+/// DOF map's three tables, that would be four or five cache lines per body, which on a large
+/// pile do not stay in the caches between the contacts that share a body.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Site {
     centroid: Vec2,

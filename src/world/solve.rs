@@ -395,7 +395,7 @@ impl World {
     /// −allowance, G(z1) + W z_imp, has its bodies held where solve 1 put them: their part of
     /// the share is dropped. So an impact into a body its other contacts hold (a jammed pile,
     /// disks resting on a floor under a landing block) mirrors only the bodies that are free to
-    /// move, and an isolated impact is mirrored as before, bit for bit.
+    /// move, and an isolated impact is mirrored in full (math note §1.3 c), bit for bit.
     fn hold_driven_bodies(
         &self,
         found: &Detected,
