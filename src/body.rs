@@ -488,11 +488,10 @@ impl Body {
 
     /// M v (`mass_matrix`). A rigid body's M is diag(m, m, ρ(sxx + syy)): its three products
     /// are the 6 × 6 product's nonzero terms, the same values (a sign of zero aside, which the
-    /// sums that use them drop). Building the matrix and the product for each body of a pile
-    /// cost about 0.1 M instructions of a warm step of the 1,000-disk pile, in the prediction
-    /// and again in the kinetic energy. Inlined: called, it read the caller's v, just stored
-    /// by narrower stores, with 16-byte loads that could not forward from them (perf annotate:
-    /// a third of its samples on one load; the prediction ×0.81 and the update ×0.95 inlined).
+    /// sums that use them drop), which spares building the matrix and the product for each
+    /// body, in the prediction and again in the kinetic energy. Inlined: called, it reads the
+    /// caller's v, just stored by narrower stores, with 16-byte loads that cannot forward from
+    /// them (a store-forwarding stall; math note §3.3, "Per-body tables").
     #[inline(always)]
     pub fn mass_times(&self, v: &Dofs) -> Dofs {
         if self.ndof() == 3 {

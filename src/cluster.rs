@@ -66,14 +66,13 @@ pub struct Flexibility {
     sparse_factorizations: usize,
     /// The clusters holding a deformable body, whose mass and stiffness follow the geometry:
     /// found on the first refresh (a new cluster layout makes a new flexibility), so that a
-    /// later one visits only them and the coupled clusters, not every body (0.1–0.2 ms of a
-    /// warm step of the 10,000-disk pile).
+    /// later one visits only them and the coupled clusters, not every body.
     deforming: Vec<usize>,
     /// Per cluster, where its closed-form K̃_c⁻¹ (n_c × n_c, column-major) starts in `closed`,
     /// or `NONE` for a sparse cluster. The global solves (the prediction, each response) read
     /// these packed blocks in cluster order, 72 bytes a rigid body, instead of each factor
-    /// through its own allocation (two padded 6×6 matrices): `Factor::solve` was 3.9 % of a
-    /// warm step of the 10,000-disk pile (perf). The body form's products read them too
+    /// through its own allocation (two padded 6×6 matrices), which a large pile reads with a
+    /// cache miss per cluster. The body form's products read them too
     /// (`delassus::bodies::Blocks`, which shares them while they stay current).
     closed_at: Vec<u32>,
     closed: Arc<Vec<f64>>,
@@ -312,8 +311,7 @@ impl Flexibility {
 
     /// Whether cluster `c` goes through the sparse factorization.
     pub fn is_sparse(&self, c: usize) -> bool {
-        // (from the packing's offsets, one load: through the factor it was a pointer chase per
-        // cluster, 0.1 ms of a step's assembly on the 10,000-disk pile with 100 bolts)
+        // (from the packing's offsets, one load, not a pointer chase through the factor)
         self.closed_at[c] == NONE
     }
 }

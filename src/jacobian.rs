@@ -134,8 +134,7 @@ pub fn dot_n<const N: usize>(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Appends `v` (at most six values) to `to`, a rigid body's three as three stores:
-/// `extend_from_slice` calls memcpy, whose call cost more than the copy (1.7 % of a warm step
-/// of the 1,000-disk pile, perf).
+/// `extend_from_slice` calls memcpy, whose call costs more than so small a copy.
 #[inline(always)]
 pub fn extend_small(to: &mut Vec<f64>, v: &[f64]) {
     match v.len() {
@@ -145,8 +144,7 @@ pub fn extend_small(to: &mut Vec<f64>, v: &[f64]) {
 }
 
 /// `to.copy_from_slice(v)` for the few values of a body's DOFs or a contact's rows, two or three
-/// as stores: `copy_from_slice` calls memcpy, whose call costs more than such a copy (about
-/// 11,000 calls a warm step of the 1,000-disk pile, callgrind).
+/// as stores: `copy_from_slice` calls memcpy, whose call costs more than such a copy.
 #[inline(always)]
 pub fn copy_small(to: &mut [f64], v: &[f64]) {
     match (to, v) {
@@ -430,9 +428,8 @@ impl Jacobian {
     }
 
     /// [`Self::push_slice`], then `out[row] += vals · v[start..]`: B v summed as B is built, a
-    /// row's terms in push order (the sums of [`Self::dot`] segment by segment). A pass of its
-    /// own over B cost 50 µs of a warm step on the 1,000-disk pile, one over each contact's new
-    /// segments 0.3 M instructions.
+    /// row's terms in push order (the sums of [`Self::dot`] segment by segment), which spares a
+    /// pass of its own over B.
     #[inline(always)]
     pub fn push_apply(
         &mut self,

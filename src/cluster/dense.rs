@@ -58,9 +58,8 @@ pub(super) fn closed_factor<'a>(
 /// K̃⁻¹ and an upper triangular square root R (R Rᵀ = K̃⁻¹) of the symmetric leading n × n block
 /// of `k`, padded with zeros to `MAX_DOF` × `MAX_DOF`; `None` unless that block is positive
 /// definite with finite results. On the fixed size, its unused diagonal set to one: no heap
-/// allocation (n × n `DMatrix` work cost 10 k instructions per call, refreshed every step for a
-/// deformable body or a bolted pair). The leading block's factor, inverse and root are the n × n
-/// ones: the padding adds only exact zeros to their sums.
+/// allocation (it runs every step for a deformable body or a bolted pair). The leading block's
+/// factor, inverse and root are the n × n ones: the padding adds only exact zeros to their sums.
 fn closed_form(mut k: BodyMatrix, n: usize) -> Option<(BodyMatrix, BodyMatrix)> {
     let pad = |m: &mut BodyMatrix, diagonal: f64| {
         for i in n..MAX_DOF {
@@ -84,7 +83,7 @@ fn closed_form(mut k: BodyMatrix, n: usize) -> Option<(BodyMatrix, BodyMatrix)> 
 pub(super) fn body_solve(k: &[f64], stride: usize, v: &mut [f64]) {
     match v.len() {
         // a rigid body, unrolled (the same sums) and written back as three stores, not a call
-        // to memcpy (the loops cost 0.05 M instructions of a warm step of the 1,000-disk pile)
+        // to memcpy
         3 => crate::jacobian::copy_small(v, &block_times::<3>(k, stride, v)),
         n if n <= MAX_DOF => times::<MAX_DOF>(k, stride, v),
         _ => times::<DENSE_MAX>(k, stride, v),

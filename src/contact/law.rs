@@ -88,7 +88,7 @@ impl ContactBounds<'_> {
 /// `laws[k].row`; `z` is the whole iterate (joint partners read each other's forces).
 impl BoundRule for ContactBounds<'_> {
     /// Inlined, with the helpers above, into the trait's `all_bounds` loop: as calls they cost
-    /// 0.47 M of the 12.48 M instructions of a warm step of the 1,000-disk pile (callgrind).
+    /// a measurable share of a warm step (callgrind, `benches/step.rs`).
     #[inline(always)]
     fn block_bounds(&self, k: usize, z: &[f64], lo: &mut [f64], hi: &mut [f64]) {
         let law = &self.laws[k];

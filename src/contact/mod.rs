@@ -200,10 +200,9 @@ impl InOrder {
 /// [`detect_in`]'s contacts in the order the pairs gave them, and the indices that read them in
 /// key order (a stable sort's), or `None` when they were found in key order, as a pile's are
 /// from pairs listed as [`broad::candidate_pairs`] lists them. A caller that reads each
-/// contact once reads them through the indices instead of moving them: sorting the contacts
-/// themselves (112 bytes each) made 88,000 of the 2.1 M cache misses of a warm step of the
-/// 10,000-disk pile (cachegrind, 2 MB last level), when the pairs still came lower index first
-/// and the walls' contacts, which have the particle as `a`, lay out of order. From
+/// contact once reads them through the indices instead of moving them (sorting the contacts
+/// themselves, 112 bytes each, costs cache misses on a large pile; math note §3.3, "Per-body
+/// tables"). From
 /// [`HALVES_FROM`] pairs on, each half of the pairs is done on a core of its own, into a vector
 /// of its own: the reader goes on from one to the other, where one vector would have to be
 /// copied onto the end of the other.

@@ -12,8 +12,7 @@ pub(super) const NONE: u32 = u32::MAX;
 /// The body-form clusters' packed blocks: per body its DOF range and K̃_c⁻¹ and R_c, copied
 /// from the factors once and kept across steps while the DOF ranges stay the same
 /// ([`Blocks::same_layout`]), the blocks of a factor replaced since copied again
-/// ([`Blocks::update`]; math note §3.3). On a pile of rigid disks that is the whole run; the
-/// copy each step cost 30–60 µs of a 1.4 ms fixed work on the 1,000-disk pile.
+/// ([`Blocks::update`]; math note §3.3). On a pile of rigid disks that is the whole run.
 #[derive(Debug, Default)]
 pub(super) struct Blocks {
     /// The stamps of the factors copied ([`Flexibility::stamps`]).
@@ -26,8 +25,8 @@ pub(super) struct Blocks {
     /// Per body: its first global DOF and DOF count, and its K̃_c⁻¹ and square root R_c
     /// (R_c R_cᵀ = K̃_c⁻¹), n_c × n_c column-major, from `kinv[square[b]..]` and
     /// `root[square[b]..]`, both laid out as the flexibility's packed K̃_c⁻¹ of the closed-form
-    /// clusters ([`Flexibility::closed`]). (A copy: shared, the flexibility copied all of it
-    /// whenever one factor changed, since the blocks still held the old values.)
+    /// clusters ([`Flexibility::closed`]). (A copy: were it shared, the flexibility would copy
+    /// all of it whenever one factor changed, since the blocks would still hold the old values.)
     pub(super) start: Vec<usize>,
     pub(super) n: Vec<usize>,
     pub(super) square: Vec<usize>,
@@ -100,8 +99,7 @@ impl Blocks {
     }
 
     /// Copies R_c of cluster `c` (in body form) from the flexibility: the leading n × n block,
-    /// column by column (a flat_map over entries cost 0.7 M instructions of a 21 M warm step on
-    /// the 1,000-disk pile).
+    /// column by column (cheaper than a flat_map over the entries).
     fn copy_root(&mut self, flex: &Flexibility, c: usize) -> Option<()> {
         let (b, (r, stride)) = (self.compact[c] as usize, flex.body_root(c)?);
         let (n, at) = (self.n[b], self.square[b]);

@@ -12,7 +12,7 @@
 //! The products keep B's own entries (the segments as pushed) and K̃_c⁻¹, not B_c R_c with a
 //! square root R_c R_cᵀ = K̃_c⁻¹, which would spare the per-body product: on the heavy-on-light
 //! stack of 1e12 (`tests/mass_ratio.rs`) the irrational entries of B R add rounding to the
-//! cancelling contact forces of the light block, and two steps no longer converged.
+//! cancelling contact forces of the light block, and two of its steps do not converge.
 
 use super::blocks::{Blocks, NONE};
 use super::cut::{Cut, cut_of};
@@ -25,9 +25,8 @@ use std::sync::{Arc, Mutex};
 
 /// From this many segments on, a product over a scene of single bodies runs in two halves on
 /// both cores ([`BodyPart::apply`], [`BodyPart::response`]). The 1,000-disk pile has about
-/// 12,000 segments, which stay in one core's cache and take some 50 µs a product; the
-/// 10,000-disk pile about 120,000, whose 5 MB do not (`benches/vi.rs`, group
-/// `body_form_product`: 517 µs on one thread, 273 on two).
+/// 12,000 segments, which stay in one core's cache; the 10,000-disk pile about 120,000, whose
+/// 5 MB do not (`benches/vi.rs`, group `body_form_product`, times one thread against two).
 const HALVES_FROM: usize = 40_000;
 
 /// The body-form clusters' part of W (see the module docs). Its products run over the
@@ -168,8 +167,8 @@ impl BodyPart {
     /// row `row0`: each segment's s K̃⁻¹ sᵀ, plus twice its products with the earlier segments of
     /// its row on its cluster (`before`; only a cluster joining several bodies has them, since a
     /// contact joins two bodies). A rigid body's segment (3 DOFs, the whole body) has its K̃⁻¹
-    /// found by one load (`Blocks::rigid`), 0.5 M fewer instructions of a warm step of the
-    /// 1,000-disk pile. Returns the number of those segments on body-form clusters.
+    /// found by one load (`Blocks::rigid`). Returns the number of those segments on body-form
+    /// clusters.
     fn add_diagonal(&self, jac: &Jacobian, segs: Range<usize>, diagonal: &mut [f64], row0: usize) -> usize {
         let Blocks { rigid, kinv, .. } = &*self.blocks;
         let all = jac.own_segments();
@@ -308,8 +307,7 @@ impl BodyPart {
                 solve_n::<3>(k, range_n::<3>(u, start), range_n_mut::<3>(v, start));
             }
         } else {
-            // a rigid body's block unrolled here too (through `solve`, a mixed pile's bodies
-            // cost 0.5 M instructions a step more at 1,000 disks)
+            // a rigid body's block unrolled here too, as in the all-rigid loop
             let Blocks { kinv, square, .. } = &*self.blocks;
             for (b, &start) in start.iter().enumerate() {
                 match ns[b] {
@@ -385,9 +383,8 @@ impl BodyPart {
         work.resize(packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(packed[bodies]);
         m.fill(0.0);
-        // a rigid body's row s: t = Rᵀ s, M += w t tᵀ, unrolled over arrays (the general loop's
-        // sums below, which would cost 3.3 M more instructions of a 27.6 M warm step on the
-        // 1,000-disk pile, callgrind)
+        // a rigid body's row s: t = Rᵀ s, M += w t tᵀ, unrolled over arrays (the general loop
+        // below costs about an eighth of a warm step more on a pile of disks, callgrind)
         let rigid = |m: &mut [f64], b: usize, v: &[f64; 3], w: f64| {
             rigid_term(range_n::<9>(root, square[b]), v, w, range_n_mut::<6>(m, packed[b]))
         };

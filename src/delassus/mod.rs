@@ -146,8 +146,8 @@ impl ContactOperator {
         bodies: bool,
         scratch: &mut Scratch,
     ) -> ContactOperator {
-        // (through the packed blocks' offsets: each factor behind its own allocation cost 0.17 ms
-        // of a warm step of the 10,000-disk pile, a cache miss per cluster)
+        // (through the packed blocks' offsets: each factor behind its own allocation would cost a
+        // cache miss per cluster)
         let body: Vec<bool> = (0..map.clusters()).map(|c| bodies && flex.closed(c).1.is_some()).collect();
         let blocks = scratch.blocks(flex, map, &body);
         // the body form reads the frames of rigid bodies in body form; a frame on any other
@@ -162,9 +162,8 @@ impl ContactOperator {
         let mut diagonal = vec![0.0; jac.rows];
         // (every cluster a body in body form answers for every segment without reading them)
         if body.iter().all(|&b| b) || jac.own_segments().iter().all(|s| body[s.cluster()]) {
-            // a scene of single bodies: nothing to assemble. The assembly's passes over every
-            // segment and row (layout, places, CSR rows) would still cost 1.6 M instructions of
-            // a 29 M warm step on the 1,000-disk pile
+            // a scene of single bodies: nothing to assemble, so the assembly's passes over every
+            // segment and row (layout, places, CSR rows) are skipped
             let bodies = BodyPart::new(&jac, blocks, &mut diagonal);
             let explicit = CsMat::zero((jac.rows, jac.rows));
             return ContactOperator {
@@ -234,8 +233,8 @@ impl Operator for ContactOperator {
     }
 
     fn apply(&self, z: &[f64], out: &mut [f64]) {
-        // (with no explicit part the body form clears `out` itself, in its halves: a clearing
-        // of its own ran on one core, 1.3 % of a warm step of the 40,000-disk pile, perf)
+        // (with no explicit part the body form clears `out` itself, in its halves, on both
+        // cores)
         let explicit = self.explicit.nnz() > 0;
         match &self.explicit_rows {
             _ if !explicit => {}

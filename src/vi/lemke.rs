@@ -28,9 +28,9 @@ mod basis;
 use basis::Basis;
 
 /// Largest LCP taken (variables; four per frictional contact of two rows, so 1,000 contacts).
-/// The 240-disk slump's 2,756 are solved in 3,117 and 3,184 pivots (about 0.3 ms a pivot); the
-/// 1,000-disk piles' 11,744 are not: a path ran 200,000 pivots (6 minutes) without ending, and
-/// went round a loop from pivot 6,242 on (math note §4.12, "A sparse basis", "Cycling").
+/// The 240-disk slump's 2,756 are solved in about a second; at the 1,000-disk piles' 11,744 a
+/// pivot costs about 1.8 ms and the paths loop without ending (math note §4.12, "A sparse
+/// basis", "Cycling").
 pub(super) const MAX_VARS: usize = 4_000;
 
 /// Covering vectors tried, each with a pivot cap of `PIVOTS_PER_VAR` m + 100.

@@ -79,10 +79,9 @@
 //!   rows on (default 20 000) the blocks run in two halves, one per core (`micropool::join`).
 //!   Block partial sums are reduced in block order, so serial and parallel results are
 //!   bit-identical. The body form's product over a scene of single bodies runs in halves from
-//!   40,000 segments on (`delassus/bodies.rs`, `HALVES_FROM`, `BodyPart::apply`). Until
-//!   2026-11-27 both ran on rayon, whose `join` from the stepping thread cost 26–119 µs a call
-//!   on the 2-core machines here: the 10,000-disk pile's warm step was faster with no second
-//!   core at all (math note §3.3, "Both cores at a join's true cost").
+//!   40,000 segments on (`delassus/bodies.rs`, `HALVES_FROM`, `BodyPart::apply`). Both use
+//!   `micropool::join`, whose cost per join is small enough for a second core to pay (math
+//!   note §3.3, "Both cores at a join's true cost"; `benches/vi.rs`, `body_form_product`).
 //!
 //! # Failure modes (never a panic)
 //!

@@ -41,9 +41,8 @@ const ABAR_GERSHGORIN: f64 = 1.9;
 /// ᾱ = ABAR_OPERATOR / the operator's row bound ([`crate::vi::Operator::row_bounds`]), which the
 /// body form keeps close to ‖Ŵ‖ (4.48 against 4.0 on the disk piles): ᾱ ≈ 1/‖Ŵ‖, where
 /// Dostál's bound of the rate stops improving (it is flat on [1, 2]/‖Ŵ‖), and the steps near
-/// 2/‖Ŵ‖ no longer damp the stiffest modes. Measured on piles of 1,000, 2,400 and 4,000 disks,
-/// 40 steps each (math note §4.8): 0.95 needed 41, 60 and 38 warm iterations in all, the lowest
-/// of the five factors tried on each pile; 1.9 needed 287 on the smallest.
+/// 2/‖Ŵ‖ do not damp the stiffest modes. Of the factors 0.76–1.9, 0.95 needed the fewest warm
+/// iterations on piles of 1,000, 2,400 and 4,000 disks (math note §4.8).
 const ABAR_OPERATOR: f64 = 0.95;
 
 /// An upper bound of ‖Ŵ‖ for the step length.
@@ -83,8 +82,7 @@ fn chopped(y: f64, lo: f64, hi: f64, g: f64) -> f64 {
 /// when there is none. An expansion takes the guess too, and keeps its step when the step
 /// decreased the cost; else it is done again with this solve's bound of ‖Ŵ‖ (`exact`, computed
 /// then and kept for the solve's later passes: [`expand_step`]). A warm step thus skips the
-/// bound of ‖Ŵ‖ (1.9 M of the 23.4 M instructions of a warm step of the 1,000-disk pile,
-/// callgrind; 1.3–2 ms of a warm step of the 10,000-disk pile), as does a solve whose start
+/// bound of ‖Ŵ‖, the costliest part of a warm solve that expands, as does a solve whose start
 /// already meets its tolerance (math note §4.8).
 #[derive(Debug)]
 pub(super) struct StepLength {

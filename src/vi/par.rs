@@ -3,11 +3,9 @@
 //! and parallel runs give bit-identical results.
 //!
 //! In parallel the blocks are cut into two halves at a block boundary, one per core, through
-//! `micropool::join` (math note §3.3, "Both cores at a join's true cost"). rayon's `join`,
-//! called from the stepping thread (outside its pool), cost 26–119 µs a call on these 2-core
-//! virtual machines, against 1.6–6 µs for micropool's, whose calling thread runs one half
-//! itself; with rayon the 10,000-disk pile's warm step was slower than with no second core at
-//! all.
+//! `micropool::join`, whose calling thread runs one half itself (math note §3.3, "Both cores
+//! at a join's true cost"): rayon's `join` called from outside its pool parks the caller, and
+//! a join must cost far less than a sweep's half for the second core to pay.
 
 use super::BoundRule;
 

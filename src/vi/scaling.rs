@@ -274,8 +274,8 @@ impl Rows for Scaled<'_> {
             .then(|| super::mprgp::Bound::Operator(tmp.iter().copied().fold(0.0, f64::max)))
     }
 
-    /// tmp = sc ∘ x (in the sweeps' halves: on one core it was 2.8 % of a warm step of the
-    /// 40,000-disk pile, perf), then out = W tmp.
+    /// tmp = sc ∘ x (in the sweeps' halves, on both cores: math note §3.3, "MPRGP's passes in
+    /// halves"), then out = W tmp.
     fn prepare(&self, x: &[f64], out: &mut [f64], tmp: &mut [f64]) {
         let scale = |r0: usize, t: &mut [f64]| {
             let (x, sc) = (&x[r0..r0 + t.len()], &self.sc[r0..r0 + t.len()]);

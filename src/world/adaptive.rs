@@ -255,8 +255,8 @@ impl World {
     /// Detection runs with the trial's threshold `threshold`: the narrow phase reports a
     /// penetration only within it. Its candidate pairs come from the pairs kept between steps
     /// (`cache`, the step's own detection's): the sweep's pairs, in its order, without the sweep
-    /// while the bodies stay inside their grown boxes (on the 40,000-disk pile the sweep took
-    /// 5–6 ms of this check, the kept pairs 0.7 ms). The caller asks only when
+    /// while the bodies stay inside their grown boxes (the sweep is most of this check's cost on
+    /// a large pile that moves). The caller asks only when
     /// [`Self::may_penetrate`] holds (otherwise no contact can qualify, math note §10.8).
     pub(super) fn new_penetration(
         &self,
@@ -268,8 +268,8 @@ impl World {
         let (shapes, fixed) = self.shapes_and_fixed();
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);
-        // the start overlap is looked up only for a contact deeper than the limit (a bisection
-        // for every contact's key cost 7–9 ms on the 40,000-disk pile)
+        // the start overlap is looked up only for a contact deeper than the limit, not by a
+        // bisection for every contact's key
         found.into_iter().filter(|g| -g.g0 > limit).find_map(|g| {
             let start = before.find(&g.key).map_or(0.0, |b| (-b.g0).max(0.0));
             let depth = -g.g0;

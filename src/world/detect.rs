@@ -43,8 +43,8 @@ impl Geoms {
 }
 
 /// What the solve stages read of a contact on each of their passes (rows, classification,
-/// refinement, velocity gaps), in 24 bytes against a geometry's 112: on the 10,000-disk pile the
-/// contacts no longer fit the caches, and each pass over them cost 0.3–0.6 ms of a warm step.
+/// refinement, velocity gaps), in 24 bytes against a geometry's 112: on a large pile the
+/// contacts do not fit the caches, and each pass streams what it reads from memory.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Brief {
     a: u32,
@@ -166,8 +166,7 @@ impl World {
         let any_mesh = reach.contains(&None);
         let interfaces = InterfaceTable::new(&self.model.interfaces, self.model.materials.len());
         // one pass over the detected contacts, in key order, which makes all the solve reads of
-        // them (each pass over them, 216 bytes apiece as they were then, cost 0.3–0.6 ms of a
-        // warm step of the 10,000-disk pile); joint partners after it, if any
+        // them (math note §3.3, "Contact frames from the rows"); joint partners after it, if any
         let (mut row, mut joints) = (0, false);
         let mut memory = self.memory.lookup();
         let n = geoms.count();

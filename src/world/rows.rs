@@ -36,8 +36,8 @@ impl Linearization {
 /// What a contact frame reads of one of its bodies, in 24 bytes: the body's step-start centroid
 /// and, for a rigid body, its first DOF and cluster. Made in detection's pass over the bodies.
 /// The rows read two per contact, scattered. Read through the bodies (336 bytes apiece) and the
-/// DOF map's three tables, that was four or five cache lines per body, which on the
-/// 10,000-disk pile no longer stayed in the caches between the contacts that share a body.
+/// DOF map's three tables, that would be four or five cache lines per body, which on a large
+/// pile do not stay in the caches between the contacts that share a body.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Site {
     centroid: Vec2,
@@ -191,8 +191,7 @@ impl World {
             }
             for (row, dir) in [(r, n), (r + 1, tau)] {
                 if len == 3 {
-                    // a rigid body (no strain columns to zero), unrolled: 0.4 M instructions of
-                    // a warm step of the 1,000-disk pile
+                    // a rigid body (no strain columns to zero), unrolled
                     jac.push_apply(row, cluster, range.start, &b.rigid_row(x, dir, sign), df, q);
                     continue;
                 }
@@ -215,9 +214,8 @@ impl World {
 /// The contact frame of a contact with no rolling row whose moving bodies are rigid (at least
 /// one), and their clusters: the rows `push_contact` pushes for it, as one frame
 /// (`jacobian::Frame`); `None` for any other contact. Inlined: returned through memory, the
-/// result was written by stores that the caller's wider loads could not forward from in one
-/// build (the 48-byte `Law` experiment of math note §3.3), and the rows stage went ×1.5 with
-/// the same instructions.
+/// result can be written by stores that the caller's wider loads cannot forward from (a
+/// store-forwarding stall; math note §3.3, "Per-body tables").
 #[inline(always)]
 fn frame(c: &Brief, l: &Linearization, sites: &[Site]) -> Option<(Frame, [usize; 2])> {
     if c.rolling() {

@@ -192,8 +192,8 @@ impl World {
     /// A force the contacts may legitimately carry this step, for the solver's divergence test
     /// (math note §4.9): the weight, applied loads and momentum per step of every free body.
     /// Speeds are √(u² + v²), not libm's `hypot`, whose care against overflow (from 1e154 m/s,
-    /// where a run has long failed its motion checks) cost about 10 µs of a warm step of the
-    /// 1,000-disk pile; the scale only sets a threshold, which moves by an ulp.
+    /// where a run has long failed its motion checks) costs time in every step; the scale only
+    /// sets a threshold, which moves by an ulp.
     fn force_scale(&self) -> f64 {
         let g = self.model.physics.gravity.norm();
         let h = self.h;
@@ -395,7 +395,7 @@ impl World {
     /// −allowance, G(z1) + W z_imp, has its bodies held where solve 1 put them: their part of
     /// the share is dropped. So an impact into a body its other contacts hold (a jammed pile,
     /// disks resting on a floor under a landing block) mirrors only the bodies that are free to
-    /// move, and an isolated impact is mirrored as before, bit for bit.
+    /// move, and an isolated impact is mirrored in full (math note §1.3 c), bit for bit.
     fn hold_driven_bodies(
         &self,
         found: &Detected,

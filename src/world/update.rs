@@ -45,12 +45,11 @@ impl World {
     /// Geometry from d̄ (paper eqs. 16–18), velocity v1 = 2 d/dt − v0 (math note eq. 1.1);
     /// the next step starts from k v1 (see [`Self::v0`]). Returns the bodies' kinetic energy
     /// after it, summed in body order while each body is at hand (a pass of its own over the
-    /// bodies cost 0.25 ms of a warm step of the 10,000-disk pile, perf).
+    /// bodies would stream them from memory again on a large pile).
     pub(super) fn update(&mut self, m: &Motion, dt: f64) -> f64 {
         self.keep(Part::Bodies);
         // a body's d̄ (none for a mesh, which moves by its nodes); gathered where it is used, not
-        // into a table per body, as v0 (the two tables cost 5 µs of a warm step of the 1,000-disk
-        // pile)
+        // into a table per body, as v0
         let dofs = &self.dofs;
         let dbar = |b: usize, body: &crate::body::Body| {
             if body.mesh.is_some() { Default::default() } else { dofs.gather(&m.dbar, b) }
@@ -135,9 +134,9 @@ impl World {
     /// The step's contact records, the memory of the next step (warm start, "was closed" and
     /// bond; a joint that broke in the step was solved again unbonded: `World::trial`), and a
     /// warning for each pair that started the step penetrating deeper than 5 % of the contact
-    /// threshold. One pass over the contacts makes all three (each pass over them, 216 bytes
-    /// apiece as they were then, cost 0.1–0.2 ms of a warm step of the 10,000-disk pile); the
-    /// records only when asked for ([`super::Settings::contact_records`]).
+    /// threshold. One pass over the contacts makes all three (on a large pile each pass over
+    /// the contacts streams them from memory); the records only when asked for
+    /// ([`super::Settings::contact_records`]).
     pub(super) fn close_contacts(
         &mut self,
         contacts: &Geoms,

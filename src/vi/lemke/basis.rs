@@ -12,9 +12,8 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par};
 
 /// Pivots between refactorizations: each eta costs about its nonzeros in every later solve it
-/// acts in, a refactor a sparse LU. On the deformable 10 × 10 pile's first two steps (math note
-/// §4.12, "A sparse basis"; callgrind) 50, 100 and 200 took 28.75, 28.34 and 32.50 G
-/// instructions, the same answers.
+/// acts in, a refactor a sparse LU. 50 to 200 cost about the same on the deformable 10 × 10
+/// pile, with the same answers; 400 is slower (math note §4.12, "A sparse basis").
 const REFACTOR: usize = 100;
 
 /// One pivot's elementary matrix: column `row` of the identity replaced by B⁻¹ a, the entering
