@@ -34,6 +34,10 @@ pub struct Checkpoint {
     pub every: usize,
     /// Last step whose rows are all written (and whose state the replay recovers).
     pub step: usize,
+    /// The stage of that step (`[[stage]]` name; absent in a run without stages): `resume` checks
+    /// that the replay reaches the same stage.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stage: Option<String>,
 }
 
 #[derive(Debug, thiserror::Error, miette::Diagnostic)]
@@ -88,6 +92,7 @@ mod tests {
             overrides: vec!["time.step=1e-3".into(), "scene.name=\"q\"".into()],
             every: 7,
             step: 42,
+            stage: Some("excavate".into()),
         };
         c.write(&dir).unwrap();
         assert_eq!(Checkpoint::read(&dir).unwrap(), c);

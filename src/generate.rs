@@ -85,6 +85,9 @@ impl DiskPile {
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },
+            stages: vec![],
+            excavations: vec![],
+            gravity_history: None,
         }
     }
 }
@@ -178,6 +181,9 @@ impl PressedBlock {
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },
+            stages: vec![],
+            excavations: vec![],
+            gravity_history: None,
         }
     }
 }

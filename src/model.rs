@@ -21,6 +21,72 @@ pub struct Model {
     pub connectors: Vec<ConnectorSpec>,
     pub monitors: Vec<Monitor>,
     pub output: OutputSettings,
+    /// `[[stage]]` in file order (math note §10.14); empty: one stage, the whole run.
+    pub stages: Vec<Stage>,
+    /// `[[excavation]]`: named groups of bodies a stage may remove.
+    pub excavations: Vec<Excavation>,
+    /// `[physics] gravity_history`: (time, factor) pairs on the gravity, piecewise linear and
+    /// constant outside (as a load's `history`); `None`: factor 1.
+    pub gravity_history: Option<Vec<(f64, f64)>>,
+}
+
+/// Piecewise-linear factor of (time, factor) pairs with increasing times at time `t`, constant
+/// beyond the first and last ones; 1 without pairs.
+pub fn history_factor(h: Option<&[(f64, f64)]>, t: f64) -> f64 {
+    let Some(h) = h else { return 1.0 };
+    match h.iter().position(|&(ti, _)| ti > t) {
+        None => h.last().map_or(1.0, |p| p.1),
+        Some(0) => h[0].1,
+        Some(i) => {
+            let (t0, f0) = h[i - 1];
+            let (t1, f1) = h[i];
+            f0 + (f1 - f0) * (t - t0) / (t1 - t0)
+        }
+    }
+}
+
+/// A named group of bodies removed together (an excavation cut from a rock mass).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excavation {
+    pub name: String,
+    /// Indices into `Model::bodies`.
+    pub bodies: Vec<usize>,
+}
+
+/// One `[[stage]]` of a staged run (math note §10.14).
+#[derive(Debug, Clone)]
+pub struct Stage {
+    pub name: String,
+    /// Simulated time [s] at which the stage ends at the latest.
+    pub end: f64,
+    /// The step after which it ends at the latest: ceil(end / dt), as `[time] end`.
+    pub end_step: usize,
+    /// [J/kg]: the stage ends once the kinetic energy per unit mass on the steps' mean velocity
+    /// d/dt has stayed below this for [`QUIET_STEPS`] steps.
+    pub until_kinetic: Option<f64>,
+    /// Indices into `Model::bodies` removed at the stage's start (from `remove`, excavations
+    /// expanded), sorted, without repeats.
+    pub remove: Vec<usize>,
+    /// Indices into `Model::connectors` that come into being at the stage's start.
+    pub connectors: Vec<usize>,
+    /// The `set` entries of this stage, as written (`KEY=VALUE`).
+    pub set: Vec<String>,
+    /// The settings in force during the stage: the scene's, with the `set` entries of this and
+    /// every earlier stage applied, and the stage's `velocity_carry` (if given) in `physics`.
+    pub settings: StageSettings,
+}
+
+/// How many consecutive quiet steps end a stage with `until_kinetic`.
+pub const QUIET_STEPS: usize = 10;
+
+/// The part of a [`Model`] a stage's `set` may change.
+#[derive(Debug, Clone)]
+pub struct StageSettings {
+    pub physics: Physics,
+    pub solver: SolverSettings,
+    pub interfaces: Vec<Interface>,
+    pub loads: Vec<Load>,
+    pub gravity_history: Option<Vec<(f64, f64)>>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -247,16 +313,7 @@ impl Load {
     /// Load factor at time `t`: piecewise linear between the history points, constant
     /// beyond the first and last ones.
     pub fn factor(&self, t: f64) -> f64 {
-        let Some(h) = &self.history else { return 1.0 };
-        match h.iter().position(|&(ti, _)| ti > t) {
-            None => h.last().map_or(1.0, |p| p.1),
-            Some(0) => h[0].1,
-            Some(i) => {
-                let (t0, f0) = h[i - 1];
-                let (t1, f1) = h[i];
-                f0 + (f1 - f0) * (t - t0) / (t1 - t0)
-            }
-        }
+        history_factor(self.history.as_deref(), t)
     }
 }
 

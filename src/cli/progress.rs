@@ -202,5 +202,7 @@ fn event_kind(e: &Event) -> &'static str {
         Event::JointBroke { .. } => "joint broke",
         Event::ConnectorBroke { .. } => "connector broke",
         Event::StepSplit { .. } => "step split",
+        Event::StageStarted { .. } => "stage started",
+        Event::StageEnded { .. } => "stage ended",
     }
 }

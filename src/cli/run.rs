@@ -55,6 +55,15 @@ impl Writers {
         self.csv.commit_step()
     }
 
+    /// Makes `step` the last step, always written (a run whose last stage ended early).
+    fn finish_at(&mut self, step: usize) {
+        self.csv.finish_at(step);
+        self.connectors.finish_at(step);
+        if let Some(vtk) = &mut self.vtk {
+            vtk.finish_at(step);
+        }
+    }
+
     fn log(&mut self, line: &str) -> Result<(), OutputError> {
         self.csv.log(line)
     }
@@ -114,6 +123,7 @@ pub(super) fn run(
         overrides: set.iter().map(|o| o.to_string()).collect(),
         every,
         step: 0,
+        stage: None,
     });
     drive(&mut world, &mut writers, Plan { out, quiet, checkpoint })
 }
@@ -134,6 +144,12 @@ pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
     for _ in 0..checkpoint.step {
         world.step().map_err(|e| miette!("replaying to the checkpoint: {e}"))?;
     }
+    if checkpoint.stage.as_deref() != world.stage_name() {
+        let (want, got) = (checkpoint.stage.as_deref(), world.stage_name());
+        return Err(miette!(
+            "replaying to the checkpoint: it was taken in stage {want:?}, the replay is in {got:?}"
+        ));
+    }
     let m = &world.model;
     let csv = CsvWriter::reopen(dir, (m.output.every, m.output.steps_every), m.time.steps, checkpoint.step)?;
     // the ParaView series is not continued: its index would need the earlier frames' times
@@ -151,7 +167,7 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
     let mut progress = Progress::new(steps - world.step_index, ProgressMode::detect(plan.quiet));
     let mut summary = RunSummary::default();
     let started = Instant::now();
-    while world.step_index < steps {
+    while !world.finished() {
         world.settings.contact_records = writers.writes_contacts(world.step_index + 1);
         let rec = match world.step() {
             Ok(rec) => rec,
@@ -162,6 +178,9 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
             }
         };
         summary.record(&rec);
+        if world.finished() {
+            writers.finish_at(rec.step);
+        }
         let events = rec.events.iter().map(|e| e.to_string());
         for line in rec.warnings.iter().map(|w| format!("warning: {w}")).chain(events) {
             progress.println(&line);
@@ -172,9 +191,10 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
             && rec.step % c.every == 0
         {
             c.step = rec.step;
+            c.stage = world.stage_name().map(str::to_owned);
             c.write(plan.out)?;
         }
-        if stop.load(Ordering::SeqCst) && rec.step < steps {
+        if stop.load(Ordering::SeqCst) && !world.finished() {
             progress.finish();
             let line = format!("interrupted at step {}", rec.step);
             writers.log(&line)?;

@@ -134,7 +134,7 @@ impl MeshBody {
     }
 
     /// Lumped nodal masses ρ A_e / 3 per node (weights of the rigid split, §9.4).
-    fn nodal_masses(&self) -> Vec<f64> {
+    pub fn nodal_masses(&self) -> Vec<f64> {
         let mut m = vec![0.0; self.nodes.len()];
         for (e, t) in self.triangles.iter().enumerate() {
             let me = self.density * self.initial_area[e] / 3.0;

@@ -56,6 +56,11 @@ impl ConnectorWriter {
         Ok(ConnectorWriter { path, out, every, last_step: world.model.time.steps })
     }
 
+    /// Makes `step` the last step, always written (a run whose last stage ended early).
+    pub fn finish_at(&mut self, step: usize) {
+        self.last_step = step;
+    }
+
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let Some(out) = &mut self.out else { return Ok(()) };
         let s = rec.step;

@@ -72,7 +72,7 @@ const HEADERS: [(&str, &str); 4] = [
     ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy,stress_x,stress_y,stress_xy"),
     (
         "steps.csv",
-        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,wall_seconds",
+        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,stage,wall_seconds",
     ),
 ];
 
@@ -174,7 +174,8 @@ impl CsvWriter {
     fn format_rows(&mut self, world: &World, rec: &StepRecord) -> io::Result<()> {
         let s = rec.step;
         if super::written(s, self.steps_every, self.last_step) {
-            self.steps_row(rec)?;
+            let stage = world.model.stages.get(rec.stage).map_or("", |s| s.name.as_str());
+            self.steps_row(rec, stage)?;
         }
         for w in &rec.warnings {
             writeln!(self.log.rows, "warning: {w}")?;
@@ -194,11 +195,11 @@ impl CsvWriter {
         super::written(step, self.every, self.last_step)
     }
 
-    fn steps_row(&mut self, rec: &StepRecord) -> io::Result<()> {
+    fn steps_row(&mut self, rec: &StepRecord, stage: &str) -> io::Result<()> {
         let (s, t) = (rec.step, Num(rec.time));
         writeln!(
             self.steps.rows,
-            "{s},{t},{},{},{},{},{},{},{}",
+            "{s},{t},{},{},{},{},{},{},{stage},{}",
             Num(rec.dt),
             rec.contact_count,
             rec.outer_iterations,
@@ -214,7 +215,16 @@ impl CsvWriter {
         let head = format!("{},{},", rec.step, Num(rec.time));
         let head = head.as_bytes();
         let spare = &mut self.spare;
-        in_halves(&world.bodies, &mut self.bodies.rows, spare, |out, b| body_row(out, head, b))?;
+        if world.stage.removed.is_empty() {
+            in_halves(&world.bodies, &mut self.bodies.rows, spare, |out, b| body_row(out, head, b))?;
+        } else {
+            // bodies removed by a stage are no longer written (math note §10.14)
+            let live: Vec<&Body> = (world.bodies.iter().enumerate())
+                .filter(|&(b, _)| !world.is_removed(b))
+                .map(|(_, body)| body)
+                .collect();
+            in_halves(&live, &mut self.bodies.rows, spare, |out, b| body_row(out, head, b))?;
+        }
         in_halves(&rec.contacts, &mut self.contacts.rows, spare, |out, c| contact_row(out, head, world, c))?;
         for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
             let body = &world.bodies[p.body];
@@ -240,6 +250,11 @@ impl CsvWriter {
             }
         }
         Ok(())
+    }
+
+    /// Makes `step` the last step, always written (a run whose last stage ended early).
+    pub fn finish_at(&mut self, step: usize) {
+        self.last_step = step;
     }
 
     /// Appends a line to `run.log`.

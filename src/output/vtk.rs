@@ -559,6 +559,11 @@ impl VtkWriter {
         self.write_pvd()
     }
 
+    /// Makes `step` the last step, always written (a run whose last stage ended early).
+    pub fn finish_at(&mut self, step: usize) {
+        self.last_step = step;
+    }
+
     /// Whether step `step` gets a file: every `every`-th step and the last.
     pub fn writes(&self, step: usize) -> bool {
         super::written(step, self.every, self.last_step)

@@ -22,8 +22,9 @@ pub(super) type Names<'a> = HashMap<&'a str, usize>;
 
 /// Validates the whole scene, in the contract's table order.
 pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
-    let time = time(&raw.time)?;
+    let time = time(&raw.time, raw.stage.last().map(|s| &s.get_ref().end))?;
     let physics = physics(&raw.physics)?;
+    let gravity_history = optional(&raw.physics.gravity_history, "gravity_history", history)?;
     let contact = contact(&raw.contact)?;
     let solver = solver(&raw.solver)?;
     let (materials, material_names) = materials(&raw.material)?;
@@ -46,6 +47,9 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
         connectors,
         monitors,
         output,
+        stages: Vec::new(),
+        excavations: Vec::new(),
+        gravity_history,
     };
     super::limits::first_step(raw, &model)?;
     super::overlap::no_body_inside_another(&model.bodies, raw.body.get_ref())?;
@@ -147,7 +151,10 @@ pub(super) fn choice<T: Copy>(v: &Spanned<String>, key: &str, options: &[(&str, 
 // ---------------------------------------------------------------- names
 
 /// Index of each name; a repeated name is an error at its second occurrence.
-fn unique_names<'a>(names: impl Iterator<Item = &'a Spanned<String>>, what: &str) -> Check<Names<'a>> {
+pub(super) fn unique_names<'a>(
+    names: impl Iterator<Item = &'a Spanned<String>>,
+    what: &str,
+) -> Check<Names<'a>> {
     let mut map = Names::new();
     for (i, name) in names.enumerate() {
         // names are written unquoted into the CSV outputs
@@ -175,7 +182,9 @@ pub(super) fn resolve(names: &Names, name: &Spanned<String>, what: &str) -> Chec
 
 // ---------------------------------------------------------------- settings
 
-fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
+/// `[time]`; with stages, `steps` and `end` may both be left out: the run then ends at the last
+/// stage's `end` (`stage_end`).
+fn time(t: &Spanned<raw::Time>, stage_end: Option<&Spanned<f64>>) -> Check<TimeSettings> {
     let (header, t) = (t.span(), t.get_ref());
     let step = positive(&t.step, "step")?;
     let steps = match (&t.steps, &t.end) {
@@ -188,10 +197,13 @@ fn time(t: &Spanned<raw::Time>) -> Check<TimeSettings> {
         }
         (None, Some(end)) => steps_until(positive(end, "end")?, step, end.span())?,
         (Some(_), Some(end)) => fail(end.span(), "give either `steps` or `end`, not both")?,
-        (None, None) => {
-            let message = "[time] needs `steps` or `end`";
-            return Err(Problem::missing(header, "steps", message));
-        }
+        (None, None) => match stage_end {
+            Some(end) => steps_until(positive(end, "end")?, step, end.span())?,
+            None => {
+                let message = "[time] needs `steps` or `end`";
+                return Err(Problem::missing(header, "steps", message));
+            }
+        },
     };
     let halvings = |v: &Spanned<i64>, key: &str| match u32::try_from(*v.get_ref()) {
         Ok(n) if n <= 30 => Ok(n),
@@ -211,7 +223,7 @@ pub const MAX_STEPS: usize = 1_000_000_000;
 
 /// steps = ceil(end / step - 1e-9): the 1e-9 keeps round-off such as 0.07 / 0.01 =
 /// 7.000000000000001 from adding a step. `end` must be at least one step (to 1e-9).
-fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
+pub(super) fn steps_until(end: f64, step: f64, span: Range<usize>) -> Check<usize> {
     let ratio = end / step;
     if ratio < 1.0 - 1e-9 {
         return fail(span, format!("end = {end} is less than one step of {step}"));

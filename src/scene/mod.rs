@@ -16,6 +16,7 @@ mod mesh;
 mod overlap;
 pub mod overrides;
 mod raw;
+mod stages;
 
 use std::cmp::Reverse;
 use std::ops::Range;
@@ -56,12 +57,22 @@ pub fn parse_bytes(bytes: &[u8], file_name: &str) -> Result<Model, SceneError> {
 
 /// Validates the scene text `source`; `file_name` is only used in error messages.
 pub fn parse(source: &str, file_name: &str) -> Result<Model, SceneError> {
+    read(source, file_name, true)
+}
+
+/// [`parse`]; without `with_stages`, the `[[stage]]` tables are read but not checked further and
+/// the model has none (the settings of a stage are read so: `stages.rs`).
+fn read(source: &str, file_name: &str, with_stages: bool) -> Result<Model, SceneError> {
     let fail = |problem: Problem| problem.into_error(source, file_name);
     let toml_fail = |e: toml::de::Error| fail(Problem::from_toml(&e, source));
     let root = DeTable::parse(source).map_err(toml_fail)?;
     let raw = raw::Scene::deserialize(Deserializer::from(root)).map_err(toml_fail)?;
     let dir = Path::new(file_name).parent().unwrap_or(Path::new(""));
-    check::model(&raw, dir).map_err(fail)
+    let mut model = check::model(&raw, dir).map_err(fail)?;
+    if with_stages {
+        model.stages = stages::stages(&raw, source, file_name, &model)?;
+    }
+    Ok(model)
 }
 
 /// What is wrong, and where: a byte span of the source.

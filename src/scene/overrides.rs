@@ -93,9 +93,18 @@ pub fn load_with(path: &Path, overrides: &[Override]) -> Result<Model, SceneErro
 
 /// Validates the scene text `source` with `overrides` applied.
 pub fn parse_with(source: &str, file: &str, overrides: &[Override]) -> Result<Model, SceneError> {
+    read_with(source, file, overrides, true)
+}
+
+/// [`parse_with`] for a stage's `set` entries: the stages themselves are not read (`stages.rs`).
+pub(super) fn stage_settings(source: &str, file: &str, overrides: &[Override]) -> Result<Model, SceneError> {
+    read_with(source, file, overrides, false)
+}
+
+fn read_with(source: &str, file: &str, overrides: &[Override], stages: bool) -> Result<Model, SceneError> {
     if overrides.is_empty() || DeTable::parse(source).is_err() {
         // nothing to apply, or a syntax error of the file itself: the reader reports it
-        return super::parse(source, file);
+        return super::read(source, file, stages);
     }
     let mut text = source.to_owned();
     let mut edits: Vec<Edit> = Vec::new();
@@ -106,7 +115,7 @@ pub fn parse_with(source: &str, file: &str, overrides: &[Override]) -> Result<Mo
         text = edit.text.clone();
         edits.push(edit);
     }
-    super::parse(&text, file).map_err(|e| blame(e, &text, file, &edits))
+    super::read(&text, file, stages).map_err(|e| blame(e, &text, file, &edits))
 }
 
 /// The text after one override, and where it went.

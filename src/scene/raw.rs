@@ -33,6 +33,20 @@ pub(super) struct Scene {
     pub monitor: Vec<Monitor>,
     #[serde(default)]
     pub output: Output,
+    #[serde(default)]
+    pub stage: Vec<Spanned<Stage>>,
+}
+
+/// `[[stage]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Stage {
+    pub name: Spanned<String>,
+    pub end: Spanned<f64>,
+    pub until_kinetic: Option<Spanned<f64>>,
+    pub velocity_carry: Option<Spanned<f64>>,
+    pub remove: Option<Spanned<Vec<Spanned<String>>>>,
+    pub set: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// `[scene]`
@@ -60,6 +74,7 @@ pub(super) struct Physics {
     pub gravity: Option<Spanned<Vec<f64>>>,
     pub plane: Option<Spanned<String>>,
     pub velocity_carry: Option<Spanned<f64>>,
+    pub gravity_history: Option<Spanned<Vec<Vec<f64>>>>,
 }
 
 /// `[contact]`
@@ -158,6 +173,8 @@ pub(super) struct Connector {
     pub shear_factor: Option<Spanned<f64>>,
     pub pretension: Option<Spanned<f64>>,
     pub strength: Option<Spanned<f64>>,
+    /// The `[[stage]]` at whose start the connector comes into being.
+    pub stage: Option<Spanned<String>>,
 }
 
 /// `[[monitor]]`

@@ -101,6 +101,7 @@ impl World {
     /// docs; math note §10.8).
     pub fn step(&mut self) -> Result<StepRecord, StepError> {
         let started = Instant::now();
+        let stage_starts = self.stage_start();
         let time = self.model.time;
         let (step, dt, t0) = (self.step_index + 1, time.step, self.time);
         let most = if time.adaptive { time.max_halvings } else { 0 };
@@ -142,9 +143,11 @@ impl World {
         }
         let mut rec = merged.expect("at least one trial");
         splits.append(&mut rec.events);
-        rec.events = splits;
+        rec.events = stage_starts;
+        rec.events.append(&mut splits);
         rec.wall_seconds = started.elapsed().as_secs_f64();
         self.step_index = step;
+        self.stage_step(&mut rec);
         Ok(rec)
     }
 
@@ -266,7 +269,8 @@ impl World {
     ) -> Option<Trouble> {
         let limit = self.penetration_limit();
         let (shapes, fixed) = self.shapes_and_fixed();
-        let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        let mut pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        self.without_removed(&mut pairs);
         let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);
         // the start overlap is looked up only for a contact deeper than the limit, not by a
         // bisection for every contact's key

@@ -160,7 +160,8 @@ impl World {
             shapes.push(body.shape());
         }
         let threshold = self.threshold.max(2.5 * u_max);
-        let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        let mut pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
+        self.without_removed(&mut pairs);
         let geoms = detect_in_order(&shapes, &pairs, threshold, self.threshold);
         // (a mesh is the body without a reach)
         let any_mesh = reach.contains(&None);

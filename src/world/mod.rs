@@ -40,10 +40,12 @@ mod record;
 mod refine;
 mod rows;
 mod solve;
+mod stages;
 mod update;
 
 pub use adaptive::Trouble;
 pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
+pub use stages::{StageEnd, StageState};
 
 /// Library-level switches that are not part of the scene format.
 #[derive(Debug, Clone, Copy)]
@@ -130,6 +132,8 @@ pub struct World {
     pub connectors: Vec<Connector>,
     /// Body → global DOF range; clusters.
     pub dofs: DofMap,
+    /// Where a staged run is: its stage, the removed bodies, the connectors not yet in being.
+    pub stage: StageState,
     flex: Flexibility,
     memory: ContactMemory,
     /// Contacts of cemented joints that broke: their cohesion is lost for good (§4.5).
@@ -178,6 +182,7 @@ impl World {
             monitors,
             connectors,
             dofs: DofMap::default(),
+            stage: StageState::default(),
             flex: Flexibility::default(),
             memory: ContactMemory::default(),
             broken: HashSet::new(),
@@ -189,6 +194,7 @@ impl World {
         };
         world.renumber();
         world.cement();
+        world.first_stage();
         world
     }
 
@@ -224,6 +230,7 @@ impl World {
         }
         self.allowance = self.gap_accuracy(&solved);
         self.update_connectors(&motion.dbar);
+        let mean_kinetic = self.mean_kinetic(&motion.dbar, dt);
         let kinetic_energy = self.update(&motion, dt);
         self.time = t1;
         self.started = true;
@@ -254,6 +261,8 @@ impl World {
             residual: solved.report.residual,
             converged: solved.report.converged,
             kinetic_energy,
+            mean_kinetic,
+            stage: self.stage.current,
             wall_seconds: started.elapsed().as_secs_f64(),
             stages,
             warnings,

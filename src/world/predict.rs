@@ -11,7 +11,7 @@ impl World {
     /// d^f as a global DOF vector.
     pub(super) fn predict(&self, t1: f64) -> Vec<f64> {
         let dt = self.h;
-        let g = self.model.physics.gravity;
+        let g = self.gravity(t1);
         let mut f: Vec<_> = self
             .bodies
             .iter()

@@ -104,6 +104,18 @@ pub enum Event {
     ConnectorBroke { step: usize, connector: String, force: f64 },
     /// A trial failed and the rest of the step runs as trials of length `dt` (math note §10.8).
     StepSplit { step: usize, dt: f64, cause: String },
+    /// A stage started before step `step` (math note §10.14): the bodies it removed and the
+    /// connectors that came into being (those on a removed body do not, `unborn`).
+    StageStarted {
+        step: usize,
+        time: f64,
+        stage: String,
+        removed: Vec<String>,
+        connectors: Vec<String>,
+        unborn: Vec<String>,
+    },
+    /// A stage ended with step `step`, and why.
+    StageEnded { step: usize, time: f64, stage: String, end: super::stages::StageEnd },
 }
 
 impl fmt::Display for Event {
@@ -120,6 +132,22 @@ impl fmt::Display for Event {
             ),
             Event::StepSplit { step, dt, cause } => {
                 write!(f, "step {step}: {cause}; repeated with dt = {dt:e}")
+            }
+            Event::StageStarted { step, time, stage, removed, connectors, unborn } => {
+                write!(f, "step {step}: stage \"{stage}\" starts at t = {time}")?;
+                for (what, list) in [
+                    ("removed", removed),
+                    ("connectors installed", connectors),
+                    ("connectors not installed (a body of theirs is removed)", unborn),
+                ] {
+                    if !list.is_empty() {
+                        write!(f, "; {what}: {}", list.join(", "))?;
+                    }
+                }
+                Ok(())
+            }
+            Event::StageEnded { step, time, stage, end } => {
+                write!(f, "step {step}: stage \"{stage}\" ended at t = {time}: {end}")
             }
         }
     }
@@ -187,6 +215,11 @@ pub struct StepRecord {
     pub residual: f64,
     pub converged: bool,
     pub kinetic_energy: f64,
+    /// The kinetic energy per unit mass of the free bodies on the step's mean velocity d/dt
+    /// [J/kg] (math note §10.14); computed in staged runs only (0 otherwise).
+    pub mean_kinetic: f64,
+    /// Index into `Model::stages` of the step's stage (0 without stages).
+    pub stage: usize,
     pub wall_seconds: f64,
     pub stages: StageTimes,
     pub warnings: Vec<Warning>,

@@ -195,7 +195,7 @@ impl World {
     /// where a run has long failed its motion checks) costs time in every step; the scale only
     /// sets a threshold, which moves by an ulp.
     fn force_scale(&self) -> f64 {
-        let g = self.model.physics.gravity.norm();
+        let g = self.gravity(self.time + self.h).norm();
         let h = self.h;
         let norm = |v: &[f64]| (v[0] * v[0] + v[1] * v[1]).sqrt();
         let bodies: f64 = (self.bodies.iter().filter(|b| !b.fixed))
