@@ -16,6 +16,7 @@ mod mesh;
 mod overlap;
 pub mod overrides;
 mod raw;
+mod traction;
 
 use std::cmp::Reverse;
 use std::ops::Range;
