@@ -76,6 +76,8 @@ fn bolted(chains: usize, length: usize) -> Model {
                 points,
                 pretension: 0.0,
                 strength: None,
+                yield_force: None,
+                ultimate_strain: None,
             });
         }
         made += 1;

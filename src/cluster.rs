@@ -454,6 +454,8 @@ pub(crate) fn bolted_row(bodies: &[Body], count: usize) -> (Vec<CouplingBlock>, 
                 points: [Vec2::new(i as f64 - 1.0, 0.0), Vec2::new(i as f64, 0.0)],
                 pretension: 0.0,
                 strength: None,
+                yield_force: None,
+                ultimate_strain: None,
             };
             Connector::from_spec(&spec).stiffness(bodies)
         })

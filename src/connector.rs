@@ -35,6 +35,8 @@ use crate::mesh::body::MeshBody;
 pub use crate::model::ConnectorKind;
 use crate::model::ConnectorSpec;
 
+mod plastic;
+
 /// Whether two anchors coincide (relative to their distance from the origin; exact zero for two
 /// anchors at the origin). A zero-length spring is isotropic; a zero-length bolt or beam is an
 /// input error.
@@ -78,6 +80,22 @@ pub struct Connector {
     /// Per anchor on a mesh body: its triangle and area coordinates, fixed from t = 0 (the
     /// anchor is a material point; see [`Connector::held_in`]).
     held: [Option<(usize, [f64; 3])>; 2],
+    /// Bolt: yield force [N] and ultimate strain (math note §6.1); `None`: elastic, unbreakable.
+    yield_force: Option<f64>,
+    ultimate_strain: Option<f64>,
+    /// Bolt: accumulated plastic strain ε_p, carried between steps (math note §6.1).
+    pub plastic_strain: f64,
+    /// Bolt: `Some(±Y)` while it is yielding, solved as the constant axial force ±Y with no
+    /// axial stiffness (the active set of math note §6.1); `None`: elastic.
+    plastic: Option<f64>,
+    /// The last step in which it started to yield (written to `connectors.csv` whatever
+    /// `[output] every` is).
+    pub yielded_at: Option<usize>,
+    /// The axial force it broke at [N] (written in its `broken` row).
+    pub broke_with: Option<f64>,
+    /// Whether it ended the last step yielding, and whether it started to yield in that step.
+    ended_yielding: bool,
+    began_yielding: bool,
 }
 
 /// One step's element: `e = G[0] d_1[cols[0]] + G[1] d_2[cols[1]]`, stiffness `k`, carried
@@ -123,6 +141,14 @@ impl Connector {
             broken_at: None,
             rest_length: None,
             held: [None, None],
+            yield_force: spec.yield_force,
+            ultimate_strain: spec.ultimate_strain,
+            plastic_strain: 0.0,
+            plastic: None,
+            yielded_at: None,
+            broke_with: None,
+            ended_yielding: false,
+            began_yielding: false,
         }
         .with_rest_length()
     }
@@ -160,7 +186,9 @@ impl Connector {
         let (rest, l) = (self.rest_length?, self.length());
         match self.kind {
             ConnectorKind::Spring { stiffness } => Some(stiffness * (l - rest)),
-            ConnectorKind::Bolt { young, area } => Some(young * area * (l - rest) / rest),
+            ConnectorKind::Bolt { young, area } => {
+                Some(young * area * ((l - rest) / rest - self.plastic_strain))
+            }
             ConnectorKind::Beam { .. } => None,
         }
     }
@@ -213,7 +241,7 @@ impl Connector {
         }
         // force on body 1 at anchor 1 (body 2 gets the opposite)
         let f1 = match self.force {
-            ConnectorForce::Axial(n) => self.axis().0 * n,
+            ConnectorForce::Axial(n) => self.axis().0 * self.plastic.unwrap_or(n),
             ConnectorForce::Isotropic(f) => f,
             ConnectorForce::Beam(_) => return None,
         };
@@ -272,6 +300,15 @@ impl Connector {
     /// the increment body b's geometry is updated with (the post-adjusted map of paper eqs.
     /// 16-18); an anchor on a mesh keeps its triangle and area coordinates.
     pub fn move_anchors(&mut self, bodies_before: &[Body], d: &dyn Fn(usize, usize) -> f64) {
+        self.move_points(bodies_before, d);
+        if let (false, Some(n)) = (self.broken, self.axial_from_length()) {
+            self.force = ConnectorForce::Axial(n);
+            self.return_to_yield();
+        }
+    }
+
+    /// The anchors' motion of [`Connector::move_anchors`], the force left as it is.
+    fn move_points(&mut self, bodies_before: &[Body], d: &dyn Fn(usize, usize) -> f64) {
         for k in 0..2 {
             let b = self.bodies[k];
             let body = &bodies_before[b];
@@ -286,9 +323,6 @@ impl Connector {
             } else {
                 body.moved_point(x, &Dofs::from_fn(|i, _| if i < body.ndof() { d(b, i) } else { 0.0 }))
             };
-        }
-        if let (false, Some(n)) = (self.broken, self.axial_from_length()) {
-            self.force = ConnectorForce::Axial(n);
         }
     }
 
@@ -363,7 +397,10 @@ impl Connector {
             }
             (_, ConnectorForce::Axial(n)) => {
                 let (l, len) = self.axis();
+                // a yielding bolt: the constant force ±Y, no axial stiffness (math note §6.1)
+                let n = self.plastic.unwrap_or(n);
                 let k = match self.kind {
+                    ConnectorKind::Bolt { .. } if self.plastic.is_some() => 0.0,
                     ConnectorKind::Bolt { young, area } => young * area / len,
                     ConnectorKind::Spring { stiffness } => stiffness,
                     ConnectorKind::Beam { .. } => unreachable!("a beam carries ConnectorForce::Beam"),
@@ -442,14 +479,14 @@ fn anchor_rows(
     let Some((e, l)) = held.or_else(|| fe.locate(x)) else { return (Vec::new(), DMatrix::zeros(3, 0)) };
     let mut cols = Vec::with_capacity(6);
     let mut g = DMatrix::zeros(3, 6);
-    for (j, (d, w)) in fe.point_dofs(e, l).enumerate() {
-        cols.extend([d, d + 1]);
-        (g[(0, 2 * j)], g[(1, 2 * j + 1)]) = (w, w);
+    for (j, (d, c, w)) in fe.point_dofs(e, l).enumerate() {
+        cols.push(d);
+        g[(c, j)] = w;
     }
     if turn {
-        // rotation_dofs lists the triangle's free nodes in point_dofs' order
-        for (j, (_, wx, wy)) in fe.rotation_dofs(e).enumerate() {
-            (g[(2, 2 * j)], g[(2, 2 * j + 1)]) = (wx, wy);
+        // rotation_dofs lists the triangle's free DOFs in point_dofs' order
+        for (j, (_, w)) in fe.rotation_dofs(e).enumerate() {
+            g[(2, j)] = w;
         }
     }
     let n = cols.len();

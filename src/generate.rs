@@ -82,6 +82,7 @@ impl DiskPile {
             }],
             bodies,
             loads: vec![],
+            tractions: Vec::new(),
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },
@@ -158,7 +159,7 @@ impl PressedBlock {
             Vec2::new(w + 0.5, 0.0),
             Vec2::new(-0.5, 0.0),
         ];
-        let block = MeshShape { mesh: self.mesh(), fixed_nodes: Vec::new() };
+        let block = MeshShape { mesh: self.mesh(), fixed_nodes: Vec::new(), rollers: Vec::new() };
         let center = Vec2::new(0.5 * w, h + r);
         Model {
             name: format!("{}x{} meshed block pressed by a disk", self.nx, self.ny),
@@ -178,6 +179,7 @@ impl PressedBlock {
                 body("disk", Shape::Disk { center, radius: r }, BodyModel::Rigid, false),
             ],
             loads: vec![Load { body: 2, point: center, force: Vec2::new(0.0, -self.load), history: None }],
+            tractions: Vec::new(),
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },

@@ -34,5 +34,6 @@ pub mod mesh;
 pub mod model;
 pub mod output;
 pub mod scene;
+pub mod traction;
 pub mod vi;
 pub mod world;

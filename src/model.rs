@@ -17,6 +17,8 @@ pub struct Model {
     pub interfaces: Vec<Interface>,
     pub bodies: Vec<BodySpec>,
     pub loads: Vec<Load>,
+    /// Distributed loads on boundaries (`[[traction]]`, math note §2.5).
+    pub tractions: Vec<crate::traction::Traction>,
     /// Bolts, springs and beams joining pairs of bodies (math note §6).
     pub connectors: Vec<ConnectorSpec>,
     pub monitors: Vec<Monitor>,
@@ -220,6 +222,9 @@ pub struct MeshShape {
     pub mesh: crate::mesh::Mesh,
     /// Sorted indices into `mesh.nodes` of the nodes of the `fixed_nodes` groups.
     pub fixed_nodes: Vec<usize>,
+    /// Rollers: `(node, component)` (0 = x, 1 = y) of the `fixed_x_nodes` and `fixed_y_nodes`
+    /// groups, sorted, that component without a DOF.
+    pub rollers: Vec<(usize, usize)>,
 }
 
 impl Shape {
@@ -373,6 +378,11 @@ pub struct ConnectorSpec {
     pub pretension: f64,
     /// Axial tension beyond which the connector breaks for good [N]; `None`: never.
     pub strength: Option<f64>,
+    /// Bolt: the axial force [N] at which it yields (elastic-perfectly-plastic, math note §6.1);
+    /// `None`: elastic.
+    pub yield_force: Option<f64>,
+    /// Bolt: the axial (total) strain beyond which it breaks for good; `None`: never.
+    pub ultimate_strain: Option<f64>,
 }
 
 #[derive(Debug, Clone)]

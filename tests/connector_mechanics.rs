@@ -49,7 +49,16 @@ fn beam(shear_factor: f64) -> ConnectorKind {
 }
 
 fn connector(kind: ConnectorKind, bodies: [usize; 2], points: [Vec2; 2], pretension: f64) -> Connector {
-    let spec = ConnectorSpec { name: "c".into(), kind, bodies, points, pretension, strength: None };
+    let spec = ConnectorSpec {
+        name: "c".into(),
+        kind,
+        bodies,
+        points,
+        pretension,
+        strength: None,
+        yield_force: None,
+        ultimate_strain: None,
+    };
     Connector::from_spec(&spec)
 }
 
@@ -350,6 +359,8 @@ fn bolt_beyond_its_strength_breaks_for_good() {
         points: [v(1.0, 0.0), v(2.0, 0.0)],
         pretension: 0.0,
         strength: Some(1.0e6),
+        yield_force: None,
+        ultimate_strain: None,
     };
     let mut c = Connector::from_spec(&spec);
     let delta = |x: f64| move |_: usize, i: usize| if i == 0 { x } else { 0.0 };

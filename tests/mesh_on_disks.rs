@@ -35,7 +35,7 @@ fn meshed_block_lands_on_frictional_disks() {
         PressedBlock { nx: 8, ny: 4, width: 2.0, height: 1.0, load: 0.0, dt: 0.01, factor_drift: 0.0 };
     let mut mesh = block.mesh();
     mesh.nodes.iter_mut().for_each(|p| *p += Vec2::new(0.5, 1.02)); // the disks' tops at y = 1
-    let shape = Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes: Vec::new() }));
+    let shape = Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes: Vec::new(), rollers: Vec::new() }));
     model.bodies.push(BodySpec::at_rest("block", shape, BodyModel::Deformable, false));
     let tolerance = model.solver.tolerance;
     let mut world = World::new(model);

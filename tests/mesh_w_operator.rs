@@ -35,7 +35,7 @@ fn body(i: usize, kind: u8, at: Vec2, size: f64, clamp: bool, rho: f64, young: f
         0 => {
             let mesh = square().transformed(size, at);
             let fixed_nodes = if clamp { mesh.node_set(&["left"]).expect("left") } else { Vec::new() };
-            Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes }))
+            Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes, rollers: Vec::new() }))
         }
         _ => {
             Shape::Polygon { vertices: vec![at, at + Vec2::new(size, 0.0), at + Vec2::new(0.3 * size, size)] }

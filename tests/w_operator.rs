@@ -108,8 +108,16 @@ fn connector_blocks(bodies: &[Body], a: usize, b: usize, k: f64) -> Vec<Coupling
         },
     };
     let points = [bodies[a].centroid + Vec2::new(0.1, 0.05), bodies[b].centroid + Vec2::new(-0.07, 0.2)];
-    let spec =
-        ConnectorSpec { name: "c".into(), kind, bodies: [a, b], points, pretension: 0.0, strength: None };
+    let spec = ConnectorSpec {
+        name: "c".into(),
+        kind,
+        bodies: [a, b],
+        points,
+        pretension: 0.0,
+        strength: None,
+        yield_force: None,
+        ultimate_strain: None,
+    };
     Connector::from_spec(&spec).stiffness(bodies)
 }
 

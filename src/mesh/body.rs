@@ -63,7 +63,7 @@ impl MeshBody {
         omega: f64,
     ) -> MeshBody {
         let m = &shape.mesh;
-        let pattern = Pattern::new(m.nodes.len(), &m.triangles, &shape.fixed_nodes);
+        let pattern = Pattern::with_rollers(m.nodes.len(), &m.triangles, &shape.fixed_nodes, &shape.rollers);
         // the scene checks the loops (a bad mesh is a scene error); an unusable boundary here
         // (a model built in code) only loses its contacts
         let loops = boundary_loops(&m.nodes, &m.triangles).unwrap_or_default();
@@ -75,7 +75,7 @@ impl MeshBody {
             nodes: m.nodes.clone(),
             displacement: vec![Vec2::zeros(); m.nodes.len()],
             triangles: m.triangles.clone(),
-            has_fixed: !shape.fixed_nodes.is_empty(),
+            has_fixed: !shape.fixed_nodes.is_empty() || !shape.rollers.is_empty(),
             outer,
             holes,
             velocity: vec![0.0; pattern.n_dof],
@@ -89,10 +89,12 @@ impl MeshBody {
         };
         let c = body.centroid();
         for n in 0..body.nodes.len() {
-            if let Some(d) = body.pattern.dof(n) {
-                let r = body.nodes[n] - c;
-                body.velocity[d] = velocity.x - omega * r.y;
-                body.velocity[d + 1] = velocity.y + omega * r.x;
+            let r = body.nodes[n] - c;
+            let v = [velocity.x - omega * r.y, velocity.y + omega * r.x];
+            for (d, v) in body.pattern.dofs(n).into_iter().zip(v) {
+                if let Some(d) = d {
+                    body.velocity[d] = v;
+                }
             }
         }
         body
@@ -143,9 +145,10 @@ impl MeshBody {
         m
     }
 
-    /// Node `n`'s part of a DOF vector (zero for a fixed node).
+    /// Node `n`'s part of a DOF vector (zero for a fixed node or component).
     pub fn node_value(&self, v: &[f64], n: usize) -> Vec2 {
-        self.pattern.dof(n).map_or(Vec2::zeros(), |d| Vec2::new(v[d], v[d + 1]))
+        let [x, y] = self.pattern.dofs(n).map(|d| d.map_or(0.0, |d| v[d]));
+        Vec2::new(x, y)
     }
 
     /// Lower-triangle triplets `(row, col, value)` of K̄ = Σ (K_e + (2/dt²) M_e) on the current
@@ -197,31 +200,35 @@ impl MeshBody {
         })
     }
 
-    /// How the point with area coordinates `l` in triangle `e` moves: `(dof of u_x, weight)` of
-    /// each of the triangle's free nodes, `u = Σ L_i u_i` (math note §9.2, eqs. 99-101).
-    pub fn point_dofs(&self, e: usize, l: [f64; 3]) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.triangles[e].iter().zip(l).filter_map(|(&n, w)| self.pattern.dof(n).map(|d| (d, w)))
+    /// How the point with area coordinates `l` in triangle `e` moves: `(DOF, component, weight)`
+    /// of each free DOF of the triangle's nodes (component 0 = x, 1 = y), `u = Σ L_i u_i` (math
+    /// note §9.2, eqs. 99-101).
+    pub fn point_dofs(&self, e: usize, l: [f64; 3]) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.triangles[e].iter().zip(l).flat_map(move |(&n, w)| {
+            let [x, y] = self.pattern.dofs(n);
+            [x.map(|d| (d, 0, w)), y.map(|d| (d, 1, w))].into_iter().flatten()
+        })
     }
 
-    /// How the material of triangle `e` turns: `(dof of u_x, ∂ω/∂u_x, ∂ω/∂u_y)` of each free
-    /// node, ω = ½(∂u_y/∂x − ∂u_x/∂y) the infinitesimal rotation, constant on a Tri3:
-    /// `ω = Σ (β_i u_y,i − γ_i u_x,i) / (4A)` (math note §9.2, beams on a mesh).
-    pub fn rotation_dofs(&self, e: usize) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
+    /// How the material of triangle `e` turns: `(DOF, ∂ω/∂u)` of each free DOF of its nodes, in
+    /// the order of [`MeshBody::point_dofs`], ω = ½(∂u_y/∂x − ∂u_x/∂y) the infinitesimal
+    /// rotation, constant on a Tri3: `ω = Σ (β_i u_y,i − γ_i u_x,i) / (4A)` (math note §9.2,
+    /// beams on a mesh).
+    pub fn rotation_dofs(&self, e: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let t = Tri3::of(&self.nodes, self.triangles[e]);
         let s = 0.25 / t.area;
-        self.triangles[e]
-            .iter()
-            .enumerate()
-            .filter_map(move |(i, &n)| self.pattern.dof(n).map(|d| (d, -s * t.gamma[i], s * t.beta[i])))
+        self.triangles[e].iter().enumerate().flat_map(move |(i, &n)| {
+            let [x, y] = self.pattern.dofs(n);
+            [x.map(|d| (d, -s * t.gamma[i])), y.map(|d| (d, s * t.beta[i]))].into_iter().flatten()
+        })
     }
 
     /// Adds a point force at `x` (current configuration) to `f`: `L_i F` on the nodes of the
     /// triangle holding x (math note §9.2, eqs. 99-101).
     pub fn add_point_load(&self, f: &mut [f64], x: Vec2, force: Vec2) {
         let Some((e, l)) = self.locate(x) else { return };
-        for (d, w) in self.point_dofs(e, l) {
-            f[d] += w * force.x;
-            f[d + 1] += w * force.y;
+        for (d, c, w) in self.point_dofs(e, l) {
+            f[d] += w * force[c];
         }
     }
 
@@ -263,7 +270,7 @@ impl MeshBody {
 
     /// Largest nodal displacement under the DOF vector `d`.
     pub fn max_motion(&self, d: &[f64]) -> f64 {
-        d.chunks(2).map(|c| c[0].hypot(c[1])).fold(0.0, f64::max)
+        (0..self.nodes.len()).map(|n| self.node_value(d, n)).map(|v| v.x.hypot(v.y)).fold(0.0, f64::max)
     }
 
     /// Current positions of the outer loop (the polygon contacts see).
@@ -336,8 +343,11 @@ impl MeshBody {
         let c = self.centroid();
         let r = rotation(theta);
         for n in 0..self.nodes.len() {
-            let Some(d) = self.pattern.dof(n) else { continue };
-            let u = Vec2::new(dbar[d], dbar[d + 1]);
+            let dofs = self.pattern.dofs(n);
+            if dofs == [None; 2] {
+                continue;
+            }
+            let u = self.node_value(dbar, n);
             let rel = self.nodes[n] - c;
             // remainder w = u − t − θ ẑ × r, carried with the rotation
             let w = u - t - Vec2::new(-theta * rel.y, theta * rel.x);
@@ -345,10 +355,13 @@ impl MeshBody {
             let step = t + (r - Matrix2::identity()) * rel + r * w;
             self.nodes[n] += step;
             self.displacement[n] += step;
-            let v0 = Vec2::new(self.velocity[d], self.velocity[d + 1]) * v0_scale;
-            let v1 = r * (Vec2::new(dvel[d], dvel[d + 1]) * (2.0 / dt) - v0);
-            self.velocity[d] = v1.x;
-            self.velocity[d + 1] = v1.y;
+            let v0 = self.node_value(&self.velocity, n) * v0_scale;
+            let v1 = r * (self.node_value(dvel, n) * (2.0 / dt) - v0);
+            for (d, v) in dofs.into_iter().zip([v1.x, v1.y]) {
+                if let Some(d) = d {
+                    self.velocity[d] = v;
+                }
+            }
         }
         self.rotation += theta;
     }
@@ -385,7 +398,7 @@ mod tests {
             triangles,
             groups: Vec::new(),
         };
-        let shape = MeshShape { mesh, fixed_nodes: Vec::new() };
+        let shape = MeshShape { mesh, fixed_nodes: Vec::new(), rollers: Vec::new() };
         let fe = MeshBody::new(&shape, 1.0, Matrix3::identity(), [0.0; 3], Vec2::zeros(), 0.0);
         let cases = [
             (Vec2::new(0.5, 0.5), 0),   // the centre: all four

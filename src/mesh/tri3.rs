@@ -1,6 +1,7 @@
 //! Constant-strain 3-node triangle (math note §9.1) and sparse assembly over the nodal DOFs.
 //!
-//! DOF order: `(u_x, u_y)` per node; nodes of `fixed_nodes` have no DOFs ([`Pattern::new`]).
+//! DOF order: `(u_x, u_y)` per node; nodes of `fixed_nodes` have no DOFs, and a fixed component of
+//! a roller node (`fixed_x_nodes`, `fixed_y_nodes`) none for that component ([`Pattern::with_rollers`]).
 //! Thickness 1 (plane problems per unit thickness). Stress and strain are `(xx, yy, xy)` with the
 //! engineering shear strain `gamma_xy`, as `D` of [`crate::body::constitutive`].
 
@@ -108,8 +109,8 @@ pub struct Pattern {
     pub indptr: Vec<usize>,
     /// CSC row indices, sorted within each column.
     pub indices: Vec<usize>,
-    /// DOF of each node's `u_x` (`u_y` is the next one); `None` for fixed nodes.
-    dof: Vec<Option<usize>>,
+    /// DOF of each node's `u_x` and `u_y`; `None` for a fixed component.
+    dof: Vec<[Option<usize>; 2]>,
     /// Per element: the value slot of each (row, col) of the 6x6 element matrix, `usize::MAX` where
     /// a fixed DOF drops the entry.
     slots: Vec<[usize; 36]>,
@@ -121,14 +122,28 @@ impl Pattern {
     /// Pattern of the mesh `triangles` over `n_nodes` nodes, with the nodes in `fixed` removed.
     /// Every triangle index must be below `n_nodes` (true of a [`crate::mesh::Mesh`]).
     pub fn new(n_nodes: usize, triangles: &[[usize; 3]], fixed: &[usize]) -> Pattern {
-        let mut is_fixed = vec![false; n_nodes];
-        fixed.iter().filter(|&&n| n < n_nodes).for_each(|&n| is_fixed[n] = true);
+        Pattern::with_rollers(n_nodes, triangles, fixed, &[])
+    }
+
+    /// As [`Pattern::new`], and each `(node, component)` of `rollers` (0 = x, 1 = y) without its
+    /// DOF: the node slides along the other axis (a roller).
+    pub fn with_rollers(
+        n_nodes: usize,
+        triangles: &[[usize; 3]],
+        fixed: &[usize],
+        rollers: &[(usize, usize)],
+    ) -> Pattern {
+        let mut is_fixed = vec![[false; 2]; n_nodes];
+        fixed.iter().filter(|&&n| n < n_nodes).for_each(|&n| is_fixed[n] = [true; 2]);
+        rollers.iter().filter(|&&(n, c)| n < n_nodes && c < 2).for_each(|&(n, c)| is_fixed[n][c] = true);
         let mut next = 0;
-        let dof: Vec<Option<usize>> = (0..n_nodes)
+        let dof: Vec<[Option<usize>; 2]> = (0..n_nodes)
             .map(|n| {
-                (!is_fixed[n]).then(|| {
-                    next += 2;
-                    next - 2
+                is_fixed[n].map(|fixed| {
+                    (!fixed).then(|| {
+                        next += 1;
+                        next - 1
+                    })
                 })
             })
             .collect();
@@ -143,18 +158,20 @@ impl Pattern {
         let mut indptr = vec![0; n_dof + 1];
         let mut indices = Vec::new();
         for (n, nbrs) in adj.iter_mut().enumerate() {
-            let Some(d) = dof[n] else { continue };
+            if dof[n] == [None; 2] {
+                continue;
+            }
             nbrs.sort_unstable();
             nbrs.dedup();
-            let rows: Vec<usize> = nbrs.iter().filter_map(|&m| dof[m]).flat_map(|r| [r, r + 1]).collect();
-            for col in [d, d + 1] {
+            let rows: Vec<usize> = nbrs.iter().flat_map(|&m| dof[m]).flatten().collect();
+            for col in dof[n].into_iter().flatten() {
                 indices.extend_from_slice(&rows);
                 indptr[col + 1] = indices.len();
             }
         }
         let edofs: Vec<[usize; 6]> = triangles
             .iter()
-            .map(|t| std::array::from_fn(|k| dof[t[k / 2]].map_or(usize::MAX, |d| d + k % 2)))
+            .map(|t| std::array::from_fn(|k| dof[t[k / 2]][k % 2].unwrap_or(usize::MAX)))
             .collect();
         let slots = edofs
             .iter()
@@ -172,9 +189,18 @@ impl Pattern {
         Pattern { n_dof, indptr, indices, dof, slots, edofs }
     }
 
-    /// DOF of node `n`'s `u_x` (`u_y` is the next), `None` if fixed.
+    /// DOF of node `n`'s `u_x` (`u_y` is the next) when both are free; `None` if the node is
+    /// fixed or a roller ([`Pattern::dofs`] gives each component).
     pub fn dof(&self, n: usize) -> Option<usize> {
-        self.dof.get(n).copied().flatten()
+        match self.dofs(n) {
+            [Some(x), Some(_)] => Some(x),
+            _ => None,
+        }
+    }
+
+    /// DOFs of node `n`'s `u_x` and `u_y`, `None` for a fixed component.
+    pub fn dofs(&self, n: usize) -> [Option<usize>; 2] {
+        self.dof.get(n).copied().unwrap_or([None; 2])
     }
 
     /// Number of stored entries.

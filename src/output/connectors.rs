@@ -1,6 +1,9 @@
 //! `connectors.csv` (scene-format contract): one row per written step and connector, only for a
 //! scene with connectors. A broken connector is written once more, at the step it broke (state
-//! `broken`, force 0: a broken bolt transmits nothing in the step it breaks in), then no longer.
+//! `broken`, with the axial force it broke at; it transmits nothing in the step it breaks in),
+//! then no longer. The row of the step in which a connector breaks or starts to yield is written
+//! whatever `[output] every` is. A bolt's `plastic_strain` is its accumulated plastic strain
+//! (math note §6.1; empty for other kinds).
 
 use super::csv::{Num, OutputError};
 use super::rows::RowFile;
@@ -11,8 +14,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 pub const FILE: &str = "connectors.csv";
-const HEADER: &str =
-    "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state";
+const HEADER: &str = "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain";
 
 pub struct ConnectorWriter {
     path: PathBuf,
@@ -64,11 +66,15 @@ impl ConnectorWriter {
     pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         let Some(out) = &mut self.out else { return Ok(()) };
         let s = rec.step;
-        if !super::written(s, self.every, self.last_step) {
+        // an event row: broke or started to yield in this step
+        let event = |c: &&Connector| c.broken_at == Some(s) || c.yielded_at == Some(s);
+        let every_row = super::written(s, self.every, self.last_step);
+        if !every_row && !world.connectors.iter().any(|c| event(&c)) {
             return Ok(());
         }
         let io_err = |source| OutputError::Io { path: self.path.clone(), source };
-        for c in world.connectors.iter().filter(|c| !c.broken || c.broken_at == Some(s)) {
+        let listed = |c: &&Connector| if every_row { !c.broken || c.broken_at == Some(s) } else { event(c) };
+        for c in world.connectors.iter().filter(listed) {
             row(&mut out.rows, world, rec, c).map_err(io_err)?;
         }
         out.commit().map_err(io_err)
@@ -79,13 +85,15 @@ fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::R
     let name = |b: usize| world.bodies[b].name.as_str();
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| Num(v).to_string());
     let (axial, shear, moments, state) = if c.broken {
-        (0.0, None, None, "broken")
+        (c.broke_with.unwrap_or(0.0), None, None, "broken")
     } else {
-        (c.axial_force(), c.shear_force(), c.end_moments(), "intact")
+        let state = if c.is_yielding() { "yielding" } else { "intact" };
+        (c.axial_force(), c.shear_force(), c.end_moments(), state)
     };
+    let plastic = c.strain().map(|_| c.plastic_strain);
     writeln!(
         w,
-        "{},{},{},{},{},{},{},{},{},{},{},{state}",
+        "{},{},{},{},{},{},{},{},{},{},{},{state},{}",
         rec.step,
         Num(rec.time),
         c.name,
@@ -97,5 +105,6 @@ fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::R
         opt(shear),
         opt(moments.map(|m| m[0])),
         opt(moments.map(|m| m[1])),
+        opt(plastic),
     )
 }

@@ -32,6 +32,7 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
     let (bodies, body_names) = bodies(&raw.body, &material_names, &materials, dir)?;
     let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
     let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
+    let tractions = super::traction::tractions(&raw.traction, &body_names, &bodies)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
     let output = output(&raw.output)?;
     let model = Model {
@@ -44,6 +45,7 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
         interfaces,
         bodies,
         loads,
+        tractions,
         connectors,
         monitors,
         output,
@@ -74,7 +76,7 @@ pub(super) fn real(v: &Spanned<f64>, key: &str, requirement: &str, test: impl Fn
     Ok(x)
 }
 
-fn finite(v: &Spanned<f64>, key: &str) -> Check<f64> {
+pub(super) fn finite(v: &Spanned<f64>, key: &str) -> Check<f64> {
     real(v, key, "", |_| true)
 }
 
@@ -450,6 +452,8 @@ fn reject_mesh_keys(b: &raw::Body) -> Check<()> {
         ("file", b.file.as_ref().map(Spanned::span)),
         ("physical", b.physical.as_ref().map(Spanned::span)),
         ("fixed_nodes", b.fixed_nodes.as_ref().map(Spanned::span)),
+        ("fixed_x_nodes", b.fixed_x_nodes.as_ref().map(Spanned::span)),
+        ("fixed_y_nodes", b.fixed_y_nodes.as_ref().map(Spanned::span)),
         ("scale", b.scale.as_ref().map(Spanned::span)),
         ("offset", b.offset.as_ref().map(Spanned::span)),
     ];
@@ -548,7 +552,7 @@ fn load(l: &raw::Load, bodies: &Names) -> Check<Load> {
 }
 
 /// (time, factor) pairs, at least one, times strictly increasing.
-fn history(h: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<(f64, f64)>> {
+pub(super) fn history(h: &Spanned<Vec<Vec<f64>>>, key: &str) -> Check<Vec<(f64, f64)>> {
     let points = pairs(h, key)?;
     if points.is_empty() {
         return fail(h.span(), "history needs at least one [time, factor] pair");

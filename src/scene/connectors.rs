@@ -99,7 +99,41 @@ fn connector(
     {
         return fail(s.span(), format!("strength ({value}) is below the pretension ({pretension})"));
     }
-    Ok(ConnectorSpec { name, kind: law, bodies: held_by, points, pretension, strength })
+    let (yield_force, ultimate_strain) = plastic_limits(c, strength, pretension)?;
+    Ok(ConnectorSpec {
+        name,
+        kind: law,
+        bodies: held_by,
+        points,
+        pretension,
+        strength,
+        yield_force,
+        ultimate_strain,
+    })
+}
+
+/// A bolt's `yield_force` (positive, at most `strength`, at least the pretension) and
+/// `ultimate_strain` (positive) (math note §6.1).
+fn plastic_limits(
+    c: &raw::Connector,
+    strength: Option<f64>,
+    pretension: f64,
+) -> Check<(Option<f64>, Option<f64>)> {
+    let yield_force = optional(&c.yield_force, "yield_force", positive)?;
+    if let (Some(y), Some(value)) = (&c.yield_force, yield_force) {
+        if let Some(s) = strength.filter(|&s| value > s) {
+            return fail(
+                y.span(),
+                format!(
+                    "yield_force ({value}) is above the strength ({s}): the bolt would break before it yields"
+                ),
+            );
+        }
+        if value < pretension {
+            return fail(y.span(), format!("yield_force ({value}) is below the pretension ({pretension})"));
+        }
+    }
+    Ok((yield_force, optional(&c.ultimate_strain, "ultimate_strain", positive)?))
 }
 
 fn kind_word(kind: Kind) -> &'static str {
@@ -110,7 +144,7 @@ fn kind_word(kind: Kind) -> &'static str {
 fn reject_foreign_keys(c: &raw::Connector, kind: Kind) -> Check<()> {
     let used: &[&str] = match kind {
         Kind::Spring => &["stiffness", "pretension", "strength"],
-        Kind::Bolt => &["young", "area", "pretension", "strength"],
+        Kind::Bolt => &["young", "area", "pretension", "strength", "yield_force", "ultimate_strain"],
         Kind::Beam => &["young", "area", "inertia", "shear_modulus", "shear_factor", "strength"],
     };
     let given = [
@@ -122,6 +156,8 @@ fn reject_foreign_keys(c: &raw::Connector, kind: Kind) -> Check<()> {
         ("shear_factor", &c.shear_factor),
         ("pretension", &c.pretension),
         ("strength", &c.strength),
+        ("yield_force", &c.yield_force),
+        ("ultimate_strain", &c.ultimate_strain),
     ];
     for (key, value) in given {
         if let Some(v) = value

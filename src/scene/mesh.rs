@@ -1,5 +1,6 @@
 //! Mesh bodies of a scene (`shape = "mesh"`, math note §9): the gmsh file relative to the scene
-//! file, the physical surface, `fixed_nodes`, `scale` and `offset`. A mesh error is a scene error at
+//! file, the physical surface, `fixed_nodes`, `fixed_x_nodes`, `fixed_y_nodes` (rollers), `scale`
+//! and `offset`. A mesh error is a scene error at
 //! the key that led to it, and its message names the mesh file and the mesh file's own line.
 
 use std::ops::Range;
@@ -33,17 +34,17 @@ pub(super) fn shape(b: &raw::Body, header: &Range<usize>, dir: &Path) -> Check<S
         None => Vec2::zeros(),
     };
     let mesh = mesh.transformed(scale, offset);
-    let fixed_nodes = match &b.fixed_nodes {
-        Some(groups) => {
-            // each group on its own, so that an error points at the group it names
-            for g in groups.get_ref() {
-                mesh.node_set(&[g.get_ref().as_str()]).map_err(|e| problem(g.span(), &e))?;
-            }
-            let keys: Vec<&str> = groups.get_ref().iter().map(|g| g.get_ref().as_str()).collect();
-            mesh.node_set(&keys).map_err(|e| problem(groups.span(), &e))?
-        }
-        None => Vec::new(),
-    };
+    let fixed_nodes = node_groups(&mesh, &b.fixed_nodes)?;
+    let mut rollers: Vec<(usize, usize)> = [&b.fixed_x_nodes, &b.fixed_y_nodes]
+        .into_iter()
+        .enumerate()
+        .map(|(c, groups)| Ok(node_groups(&mesh, groups)?.into_iter().map(move |n| (n, c))))
+        .collect::<Check<Vec<_>>>()?
+        .into_iter()
+        .flatten()
+        .filter(|(n, _)| fixed_nodes.binary_search(n).is_err())
+        .collect();
+    rollers.sort_unstable();
     if let Err(e) = boundary_loops(&mesh.nodes, &mesh.triangles) {
         return fail(file.span(), format!("{}: the mesh boundary is unusable: {e}", mesh.file));
     }
@@ -51,7 +52,26 @@ pub(super) fn shape(b: &raw::Body, header: &Range<usize>, dir: &Path) -> Check<S
         let span = b.fixed_nodes.as_ref().map_or(file.span(), Spanned::span);
         return fail(span, "fixed_nodes fixes every node of the mesh: use `fixed = true` instead");
     }
-    Ok(Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes })))
+    if 2 * (mesh.nodes.len() - fixed_nodes.len()) == rollers.len() {
+        let span = b.fixed_y_nodes.as_ref().or(b.fixed_x_nodes.as_ref()).map_or(file.span(), Spanned::span);
+        return fail(
+            span,
+            "fixed_x_nodes and fixed_y_nodes fix every node of the mesh: use `fixed = true` instead",
+        );
+    }
+    Ok(Shape::Mesh(Box::new(MeshShape { mesh, fixed_nodes, rollers })))
+}
+
+/// The sorted nodes of the named physical groups (`fixed_nodes`, `fixed_x_nodes`,
+/// `fixed_y_nodes`); an unknown or empty group is an error at its name.
+fn node_groups(mesh: &Mesh, groups: &Option<Spanned<Vec<Spanned<String>>>>) -> Check<Vec<usize>> {
+    let Some(groups) = groups else { return Ok(Vec::new()) };
+    // each group on its own, so that an error points at the group it names
+    for g in groups.get_ref() {
+        mesh.node_set(&[g.get_ref().as_str()]).map_err(|e| problem(g.span(), &e))?;
+    }
+    let keys: Vec<&str> = groups.get_ref().iter().map(|g| g.get_ref().as_str()).collect();
+    mesh.node_set(&keys).map_err(|e| problem(groups.span(), &e))
 }
 
 /// A mesh body is always finite elements: `model`, if given, must be "deformable", and the

@@ -17,6 +17,7 @@ mod overlap;
 pub mod overrides;
 mod raw;
 mod stages;
+mod traction;
 
 use std::cmp::Reverse;
 use std::ops::Range;

@@ -30,6 +30,8 @@ pub(super) struct Scene {
     #[serde(default)]
     pub connector: Vec<Spanned<Connector>>,
     #[serde(default)]
+    pub traction: Vec<Spanned<Traction>>,
+    #[serde(default)]
     pub monitor: Vec<Monitor>,
     #[serde(default)]
     pub output: Output,
@@ -133,6 +135,10 @@ pub(super) struct Body {
     pub physical: Option<Spanned<String>>,
     /// Mesh: physical curve or point groups whose nodes have no DOFs.
     pub fixed_nodes: Option<Spanned<Vec<Spanned<String>>>>,
+    /// Mesh: physical groups whose nodes have no x DOF (rollers sliding along y).
+    pub fixed_x_nodes: Option<Spanned<Vec<Spanned<String>>>>,
+    /// Mesh: physical groups whose nodes have no y DOF (rollers sliding along x).
+    pub fixed_y_nodes: Option<Spanned<Vec<Spanned<String>>>>,
     /// Mesh: factor on the file's coordinates.
     pub scale: Option<Spanned<f64>>,
     /// Mesh: translation after scaling.
@@ -175,6 +181,22 @@ pub(super) struct Connector {
     pub strength: Option<Spanned<f64>>,
     /// The `[[stage]]` at whose start the connector comes into being.
     pub stage: Option<Spanned<String>>,
+    pub yield_force: Option<Spanned<f64>>,
+    pub ultimate_strain: Option<Spanned<f64>>,
+}
+
+/// `[[traction]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Traction {
+    pub body: Spanned<String>,
+    pub from: Option<Spanned<Vec<f64>>>,
+    pub to: Option<Spanned<Vec<f64>>>,
+    pub group: Option<Spanned<String>>,
+    pub pressure: Option<Spanned<f64>>,
+    pub shear: Option<Spanned<f64>>,
+    pub stress: Option<Spanned<Vec<f64>>>,
+    pub history: Option<Spanned<Vec<Vec<f64>>>>,
 }
 
 /// `[[monitor]]`

@@ -45,31 +45,55 @@ impl World {
     pub(super) fn break_connectors(&mut self, dbar: &[f64], step: usize) -> Vec<Event> {
         let mut events = Vec::new();
         for k in 0..self.connectors.len() {
-            let mut trial = self.connectors[k].clone();
-            trial.update(&self.bodies, &body_dof(&self.dofs, dbar));
-            if trial.exceeds_strength() {
+            let force = {
+                let d = body_dof(&self.dofs, dbar);
+                let mut trial = self.connectors[k].clone();
+                trial.update(&self.bodies, &d);
+                if trial.exceeds_strength() {
+                    Some(trial.axial_force())
+                } else {
+                    self.connectors[k].passes_ultimate_strain(&self.bodies, &d)
+                }
+            };
+            if let Some(force) = force {
                 self.keep(Part::Connectors);
                 let c = &mut self.connectors[k];
                 c.break_off();
                 c.broken_at = Some(step);
-                events.push(Event::ConnectorBroke {
-                    step,
-                    connector: c.name.clone(),
-                    force: trial.axial_force(),
-                });
+                c.broke_with = Some(force);
+                events.push(Event::ConnectorBroke { step, connector: c.name.clone(), force });
             }
         }
         events
     }
 
+    /// The yield active set (math note §6.1): bolts whose elastic trial after the increment
+    /// `dbar` passes their yield force become the constant force ±Y, yielding ones that unload
+    /// become elastic. Returns whether any switched (the caller solves the step again).
+    pub(super) fn switch_yields(&mut self, dbar: &[f64]) -> bool {
+        let mut switched = false;
+        for k in 0..self.connectors.len() {
+            let mut c = self.connectors[k].clone();
+            if c.switch_yield(&self.bodies, &body_dof(&self.dofs, dbar)) {
+                self.keep(Part::Connectors);
+                self.connectors[k] = c;
+                switched = true;
+            }
+        }
+        switched
+    }
+
     /// After the step, before the bodies move: forces from the increments, anchors moved with
     /// their bodies (the bodies are still in the step-start state the stiffness was built on).
-    pub(super) fn update_connectors(&mut self, dbar: &[f64]) {
+    pub(super) fn update_connectors(&mut self, dbar: &[f64], step: usize) {
         self.keep(Part::Connectors);
         let (bodies, d) = (&self.bodies, body_dof(&self.dofs, dbar));
         for c in &mut self.connectors {
             c.update(bodies, &d);
             c.move_anchors(bodies, &d);
+            if c.started_yielding() {
+                c.yielded_at = Some(step);
+            }
         }
     }
 }

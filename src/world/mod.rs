@@ -229,7 +229,7 @@ impl World {
             self.undo = None;
         }
         self.allowance = self.gap_accuracy(&solved);
-        self.update_connectors(&motion.dbar);
+        self.update_connectors(&motion.dbar, step);
         let mean_kinetic = self.mean_kinetic(&motion.dbar, dt);
         let kinetic_energy = self.update(&motion, dt);
         self.time = t1;
@@ -281,6 +281,7 @@ impl World {
         events: &mut Vec<Event>,
     ) -> Result<(detect::Geoms, solve::Solved, update::Motion, f64), adaptive::Failure> {
         let step = self.step_index + 1;
+        let mut yield_rounds = 0;
         loop {
             let couplings = self.couplings();
             self.flex
@@ -305,6 +306,11 @@ impl World {
             }
             let broke = self.break_connectors(&motion.dbar, step);
             if broke.is_empty() {
+                // the yield active set (math note §6.1), at most YIELD_ROUNDS solves again
+                if yield_rounds < YIELD_ROUNDS && self.switch_yields(&motion.dbar) {
+                    yield_rounds += 1;
+                    continue;
+                }
                 return Ok((found.geoms, solved, motion, threshold));
             }
             events.extend(broke);
@@ -360,6 +366,11 @@ impl World {
 /// c of math note §10.9: the damping C = c dt K of the strain DOFs; a stiff strain mode's
 /// velocity is multiplied by −1/(1 + 2c) = −0.2 per step (spectral radius at ω dt → ∞).
 pub const STRAIN_DAMPING: f64 = 2.0;
+
+/// Solves of one step again for the yield active set of bolts (math note §6.1): a switch is a
+/// bolt reaching its yield force or unloading from it, and one round settles a single bolt; past
+/// this the step keeps its last solve and the force at the step's end is capped explicitly.
+const YIELD_ROUNDS: usize = 8;
 
 /// Stage timer: seconds since the last lap.
 struct Clock(Instant);

@@ -3,7 +3,7 @@
 //! implicit scheme evaluates the equation of motion).
 
 use super::World;
-use crate::body::Body;
+use crate::body::{Body, Dofs, Outline};
 use crate::geometry::Vec2;
 use crate::model::Load;
 
@@ -37,6 +37,7 @@ impl World {
             f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
                 + body.shape_row(p.current, Vec2::y()) * force.y;
         }
+        self.add_traction_loads(t1, &mut f, &mut df);
         self.add_connector_loads(&mut df);
         for (b, fb) in f.iter().enumerate() {
             match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
@@ -51,6 +52,38 @@ impl World {
         }
         self.flex.solve_in_place(&self.dofs, &mut df);
         df
+    }
+}
+
+impl World {
+    /// The `[[traction]]` loads at time t1 on the step-start configuration (math note §2.5): a
+    /// block's in `f` (the point load t ℓ at each piece's midpoint), a mesh's in `df` (its
+    /// consistent nodal loads).
+    fn add_traction_loads(&self, t1: f64, f: &mut [Dofs], df: &mut [f64]) {
+        for tr in &self.model.tractions {
+            let body = &self.bodies[tr.body];
+            if body.fixed {
+                continue;
+            }
+            if let Some(fe) = &body.mesh {
+                let range = self.dofs.range(tr.body);
+                for (a, b, s, force) in tr.forces(|n| fe.nodes[n], t1) {
+                    for (node, w) in [(a, 1.0 - s), (b, s)] {
+                        for (d, c) in fe.pattern.dofs(node).into_iter().zip(0..2) {
+                            if let Some(d) = d {
+                                df[range.start + d] += w * force[c];
+                            }
+                        }
+                    }
+                }
+                continue;
+            }
+            let Outline::Polygon { vertices, .. } = &body.outline else { continue };
+            for (a, b, s, force) in tr.forces(|n| vertices[n], t1) {
+                let x = vertices[a] + (vertices[b] - vertices[a]) * s;
+                f[tr.body] += body.shape_row(x, Vec2::x()) * force.x + body.shape_row(x, Vec2::y()) * force.y;
+            }
+        }
     }
 }
 

@@ -174,17 +174,20 @@ impl World {
             {
                 // math note §9.2: the column has entries at the two nodes of the edge holding x,
                 // c = s [(1 - t) e_i + t e_j] (x) [n, tau]; the full nodal column in solve 2 as well
-                for (node, w) in fe.edge_weights(x) {
-                    let Some(d) = fe.pattern.dof(node).filter(|_| w != 0.0) else { continue };
-                    for (row, dir) in [(r, n), (r + 1, tau)] {
-                        jac.push_apply(
-                            row,
-                            cluster,
-                            range.start + d,
-                            &[sign * w * dir.x, sign * w * dir.y],
-                            df,
-                            q,
-                        );
+                for (node, w) in fe.edge_weights(x).into_iter().filter(|&(_, w)| w != 0.0) {
+                    if let Some(d) = fe.pattern.dof(node) {
+                        for (row, dir) in [(r, n), (r + 1, tau)] {
+                            let vals = [sign * w * dir.x, sign * w * dir.y];
+                            jac.push_apply(row, cluster, range.start + d, &vals, df, q);
+                        }
+                        continue;
+                    }
+                    // a roller: its free component alone
+                    for (c, d) in fe.pattern.dofs(node).into_iter().enumerate() {
+                        let Some(d) = d else { continue };
+                        for (row, dir) in [(r, n), (r + 1, tau)] {
+                            jac.push_apply(row, cluster, range.start + d, &[sign * w * dir[c]], df, q);
+                        }
                     }
                 }
                 continue;

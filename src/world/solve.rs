@@ -202,7 +202,10 @@ impl World {
             .map(|b| {
                 let speed = match &b.mesh {
                     // a mesh's velocity is per node: its fastest node
-                    Some(fe) => fe.velocity.chunks(2).map(norm).fold(0.0, f64::max),
+                    Some(fe) => (0..fe.nodes.len())
+                        .map(|n| fe.node_value(&fe.velocity, n))
+                        .map(|v| norm(&[v.x, v.y]))
+                        .fold(0.0, f64::max),
                     None => norm(b.velocity.as_slice()) + b.velocity[2].abs() * b.reach,
                 };
                 b.mass * (g + 2.0 * speed / h)
