@@ -33,6 +33,7 @@ pub mod jacobian;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod rockmass;
 pub mod scene;
 pub mod vi;
 pub mod world;
