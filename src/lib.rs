@@ -33,6 +33,7 @@ pub mod jacobian;
 pub mod mesh;
 pub mod model;
 pub mod output;
+pub mod rockmass;
 pub mod scene;
 pub mod traction;
 pub mod vi;

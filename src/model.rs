@@ -175,6 +175,9 @@ pub struct Material {
 /// A contact law. `materials: None` is the default for all pairs.
 #[derive(Debug, Clone)]
 pub struct Interface {
+    /// `[[interface]] name`, unique when given; edges tagged with it (joints of a cut rock
+    /// mass, [`BodySpec::edge_interfaces`]) select it.
+    pub name: Option<String>,
     /// Indices into `Model::materials` (unordered pair), or `None` for the default entry.
     pub materials: Option<[usize; 2]>,
     /// Coulomb coefficient μ (from `friction`, or tan of `friction_angle`).
@@ -189,8 +192,14 @@ pub struct Interface {
 
 impl Interface {
     /// The frictionless, cohesionless law used when a scene gives no default interface.
-    pub const SMOOTH: Interface =
-        Interface { materials: None, friction: 0.0, cohesion: 0.0, tensile_strength: 0.0, rolling: 0.0 };
+    pub const SMOOTH: Interface = Interface {
+        name: None,
+        materials: None,
+        friction: 0.0,
+        cohesion: 0.0,
+        tensile_strength: 0.0,
+        rolling: 0.0,
+    };
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -285,6 +294,11 @@ pub struct BodySpec {
     pub angular_velocity: f64,
     /// Initial stress (σx, σy, τxy) [Pa], deformable bodies only.
     pub initial_stress: Option<[f64; 3]>,
+    /// Polygons: per edge (edge i from vertex i to i + 1), the interface its joint carries
+    /// (index into `Model::interfaces`), or `None`; empty for untagged bodies. A contact
+    /// between two edges tagged with the same interface takes that interface's law instead of
+    /// the material pair's (math note §4.14).
+    pub edge_interfaces: Vec<Option<usize>>,
 }
 
 impl BodySpec {
@@ -299,6 +313,7 @@ impl BodySpec {
             velocity: Vec2::zeros(),
             angular_velocity: 0.0,
             initial_stress: None,
+            edge_interfaces: Vec::new(),
         }
     }
 }

@@ -24,6 +24,7 @@ pub(super) fn stages(
         stages[i].remove = removals(s.get_ref(), model, &stages[..i]).map_err(fail_at)?;
     }
     connector_stages(raw, &mut stages).map_err(fail_at)?;
+    excavation_stages(raw, model, &mut stages).map_err(fail_at)?;
     let base = StageSettings {
         physics: model.physics,
         solver: model.solver,
@@ -145,6 +146,23 @@ fn removals(s: &raw::Stage, model: &Model, earlier: &[Stage]) -> Check<Vec<usize
     bodies.sort_unstable();
     bodies.dedup();
     Ok(bodies)
+}
+
+/// Each excavation's `stage`: its blocks are removed at that stage's start (as if the stage's
+/// `remove` named it).
+fn excavation_stages(raw: &raw::Scene, model: &Model, stages: &mut [Stage]) -> Check<()> {
+    for x in raw.excavation.iter().map(Spanned::get_ref) {
+        let Some(name) = &x.stage else { continue };
+        let n = name.get_ref();
+        let Some(stage) = stages.iter_mut().find(|s| s.name == *n) else {
+            return fail(name.span(), format!("no [[stage]] is named \"{n}\""));
+        };
+        let bodies = model.excavations.iter().filter(|e| e.name == *x.name.get_ref()).flat_map(|e| &e.bodies);
+        stage.remove.extend(bodies);
+        stage.remove.sort_unstable();
+        stage.remove.dedup();
+    }
+    Ok(())
 }
 
 /// Each connector's `stage`: it comes into being at that stage's start.
