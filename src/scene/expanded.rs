@@ -24,7 +24,7 @@ pub struct Expanded {
 
 /// The expanded scene of `source`; meshed blocks' files are named `STEM.blk-N.msh`.
 pub fn expanded(source: &str, file: &str, stem: &str) -> Result<Expanded, SceneError> {
-    let (raw, model, expansion) = super::parse_raw(source, file)?;
+    let (raw, model, expansion) = super::parse_raw(source, file, true)?;
     let mut doc: Table = source.parse().map_err(|e: toml::de::Error| {
         SceneError::at(file, source, e.span().unwrap_or(0..0), String::new(), e.message().to_owned())
     })?;

@@ -412,6 +412,8 @@ fn block_body(
         file: None,
         physical: None,
         fixed_nodes: None,
+        fixed_x_nodes: None,
+        fixed_y_nodes: None,
         scale: None,
         offset: None,
         model: None,

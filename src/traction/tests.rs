@@ -53,6 +53,7 @@ fn polygon(name: &str, vertices: Vec<Vec2>) -> BodySpec {
         velocity: Vec2::zeros(),
         angular_velocity: 0.0,
         initial_stress: None,
+        edge_interfaces: Vec::new(),
     }
 }
 
