@@ -463,3 +463,29 @@ fn a_resumed_staged_run_writes_the_same_bytes() {
     assert_eq!(column(&whole.join("connectors.csv"), "step").first().map(String::as_str), Some("51"));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The scene reader's stages: ends in steps (ceil(end / dt)), the run's steps from the last
+/// stage, the bolt installed at stage 2, and `set` entries cumulative (stage 3's friction change
+/// keeps stage 2's cohesion of 0), each stage's carry in its physics. Expected values are the
+/// literals of the scene text (mu = tan 20 deg and tan 30 deg to 1e-15).
+#[test]
+fn stages_read_with_cumulative_settings() {
+    let text = INCLINE.to_owned()
+        + "[[stage]]\nname = \"shake\"\nend = 2.0\nvelocity_carry = 1.0\nset = [\"interface[0].friction_angle=30.0\", \"physics.gravity_history=[[1.5, 1.0], [2.0, 2.0]]\"]\n";
+    let m = parse(&text, "stages.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(m.time.steps, 200);
+    let ends: Vec<usize> = m.stages.iter().map(|s| s.end_step).collect();
+    assert_eq!(ends, [50, 150, 200]);
+    assert_eq!(m.stages[1].connectors, [0]);
+    assert!(m.stages[0].connectors.is_empty() && m.stages[2].connectors.is_empty());
+    let cohesion: Vec<f64> = m.stages.iter().map(|s| s.settings.interfaces[0].cohesion).collect();
+    assert_eq!(cohesion, [1.0e4, 0.0, 0.0]);
+    let mu = |s: usize| m.stages[s].settings.interfaces[0].friction;
+    assert!(
+        (mu(1) - 20f64.to_radians().tan()).abs() < 1e-15 && (mu(2) - 30f64.to_radians().tan()).abs() < 1e-15
+    );
+    let carry: Vec<f64> = m.stages.iter().map(|s| s.settings.physics.velocity_carry).collect();
+    assert_eq!(carry, [0.0, 0.0, 1.0]);
+    assert_eq!(m.stages[2].settings.gravity_history.as_deref(), Some(&[(1.5, 1.0), (2.0, 2.0)][..]));
+    assert_eq!(m.stages[1].settings.gravity_history, None);
+}

@@ -58,5 +58,10 @@ pub fn summary(model: &Model) -> String {
     let how = if model.contact.threshold.is_some() { "given" } else { "estimated: 0.1 x smallest feature" };
     s += &format!("contact threshold d0: {} m ({how})\n", world.threshold);
     s += &format!("loads: {}, monitors: {}\n", model.loads.len(), model.monitors.len());
+    if !model.stages.is_empty() {
+        let stages: Vec<String> =
+            model.stages.iter().map(|st| format!("{} (to t = {} s)", st.name, st.end)).collect();
+        s += &format!("stages: {}\n", stages.join(", "));
+    }
     s
 }

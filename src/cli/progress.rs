@@ -142,7 +142,7 @@ impl RunSummary {
         let warnings: usize = self
             .by_kind
             .iter()
-            .filter(|(k, _)| !matches!(**k, "joint broke" | "event"))
+            .filter(|(k, _)| !matches!(**k, "joint broke" | "event" | "stage started" | "stage ended"))
             .map(|(_, n)| n)
             .sum();
         format!(

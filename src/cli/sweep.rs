@@ -199,6 +199,10 @@ fn one_run(
     // the last two totals of every pair that has been in contact
     let mut history: BTreeMap<String, [f64; 2]> = BTreeMap::new();
     for _ in 0..steps {
+        if world.finished() {
+            // a staged run whose last stage ended early (`until_kinetic`)
+            break;
+        }
         let rec = world.step()?;
         run.iterations += rec.inner_iterations;
         let mut pairs: BTreeMap<String, f64> = BTreeMap::new();

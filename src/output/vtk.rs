@@ -206,9 +206,10 @@ pub fn circle_points(center: Vec2, radius: f64, phase: f64) -> impl Iterator<Ite
     unit.iter().map(move |u| center + Vec2::new(c * u.x - s * u.y, s * u.x + c * u.y) * radius)
 }
 
-/// Body cells: one per body (see the module notes for the shapes).
+/// Body cells: one per body (see the module notes for the shapes), bodies removed by a stage
+/// left out.
 pub fn add_bodies(grid: &mut Grid, world: &World) {
-    for (i, b) in world.bodies.iter().enumerate() {
+    for (i, b) in world.bodies.iter().enumerate().filter(|&(i, _)| !world.is_removed(i)) {
         let v = &b.velocity;
         let mut values = CellValues {
             body: i as i32,
@@ -453,7 +454,7 @@ pub fn step_grid(grid: &mut Grid, world: &World, rec: &StepRecord) {
     add_bodies(grid, world);
     add_contacts(grid, rec);
     add_lines(grid, &connector_lines(world, rec.step));
-    for (i, b) in world.bodies.iter().enumerate() {
+    for (i, b) in world.bodies.iter().enumerate().filter(|&(i, _)| !world.is_removed(i)) {
         if let Some(fe) = &b.mesh {
             add_mesh(grid, &mesh_cells(i, fe));
         }
