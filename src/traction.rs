@@ -178,6 +178,32 @@ pub fn domain_edges(outline: &[Vec2], bodies: &[BodySpec], from: Vec2, to: Vec2)
     out
 }
 
+/// The tractions of a `body = "domain"` traction: one per body with an edge on the part of the
+/// outline from `from` to `to` ([`domain_edges`]), its pieces those whole edges (a polygon's
+/// vertices k, k + 1; a mesh's outer-loop nodes), each with `law` and `history`.
+pub fn domain_tractions(
+    outline: &[Vec2],
+    bodies: &[BodySpec],
+    from: Vec2,
+    to: Vec2,
+    law: TractionLaw,
+    history: Option<Vec<(f64, f64)>>,
+) -> Vec<Traction> {
+    let mut out: Vec<Traction> = Vec::new();
+    for (body, k) in domain_edges(outline, bodies, from, to) {
+        let ids: Vec<usize> = match &bodies[body].shape {
+            Shape::Mesh(m) => outer_loop(&m.mesh.nodes, &m.mesh.triangles),
+            shape => (0..body_ring(shape).len()).collect(),
+        };
+        let piece = Piece { nodes: [ids[k], ids[(k + 1) % ids.len()]], s: [0.0, 1.0] };
+        match out.last_mut().filter(|t| t.body == body) {
+            Some(t) => t.pieces.push(piece),
+            None => out.push(Traction { body, pieces: vec![piece], law, history: history.clone() }),
+        }
+    }
+    out
+}
+
 /// The counter-clockwise outer boundary of a polygon (its vertices) or mesh (its outer loop's
 /// nodes); empty for disks and rings.
 pub fn body_ring(shape: &Shape) -> Vec<Vec2> {

@@ -208,3 +208,56 @@ fn an_unloaded_yielded_bolt_rests_at_its_plastic_elongation() {
     assert!(b.ep > 0.0);
     close(b.l, L * (1.0 + b.ep), L, "rest length after unloading", 200);
 }
+
+/// connectors.csv with `[output] every` far beyond the run: the row of the step the bolt starts
+/// to yield in (state `yielding`, force Y, its plastic strain) and of the step it breaks in
+/// (state `broken`, the force it broke at, Y) are written all the same, and nothing else (the
+/// last step's row would list intact connectors only). The steps are the recursion's.
+#[test]
+fn the_steps_a_bolt_yields_and_breaks_in_are_always_written() {
+    let steps = 100;
+    let (mut b, mut yielded, mut broke) =
+        (Bolt { l: L, n: 0.0, ep: 0.0, plastic: false, broken: false }, None, None);
+    for s in 1..=steps {
+        let was = b;
+        b.step(2.0e4 * s as f64 * DT, Some(0.05));
+        if b.plastic && !was.plastic && yielded.is_none() {
+            yielded = Some(s);
+        }
+        if b.broken && !was.broken {
+            broke = Some(s);
+        }
+    }
+    let (yielded, broke) = (yielded.expect("yields"), broke.expect("breaks"));
+    let dir = std::env::temp_dir().join(format!("pbdda-bolt-yield-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let text =
+        scene("[[0.0, 0.0], [1.0, 2.0e4]]", Some(0.05), steps) + "[output]\nevery = 1000\nvtk = false\n";
+    let path = dir.join("pull.toml");
+    std::fs::write(&path, text).expect("scene");
+    let out = dir.join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_pbdda"))
+        .args(["run", path.to_str().unwrap(), "--out", out.to_str().unwrap(), "-q"])
+        .output()
+        .expect("the binary runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("connectors.csv")).expect("connectors.csv");
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some(
+            "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain"
+        )
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    let num = |s: &str| s.parse::<f64>().expect("a number");
+    assert_eq!((num(rows[0][0]) as usize, rows[0][11]), (yielded, "yielding"));
+    assert_eq!((num(rows[1][0]) as usize, rows[1][11]), (broke, "broken"));
+    for r in &rows {
+        close(num(r[7]), Y, Y, "axial_force", num(r[0]) as usize);
+    }
+    assert!(num(rows[0][12]) >= 0.0);
+    let _ = std::fs::remove_dir_all(&dir);
+}

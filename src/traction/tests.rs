@@ -80,4 +80,11 @@ fn domain_edges_are_the_blocks_edges_on_the_outline() {
     assert_eq!(left, vec![(0, 3), (2, 2)]);
     // half the top, from its midpoint: the upper-left blocks' top edge alone
     assert_eq!(domain_edges(&outline, &bodies, v(2.0, 2.0), v(0.0, 2.0)), vec![(3, 1)]);
+    // as tractions: one per body, its edges as whole pieces
+    let law = TractionLaw::Pressure { pressure: 1.0, shear: 0.0 };
+    let t = domain_tractions(&outline, &bodies, v(0.0, 0.0), v(4.0, 2.0), law, None);
+    let got: Vec<(usize, Vec<[usize; 2]>)> =
+        t.iter().map(|t| (t.body, t.pieces.iter().map(|p| p.nodes).collect())).collect();
+    assert_eq!(got, vec![(0, vec![[0, 1]]), (1, vec![[0, 1], [1, 2]]), (4, vec![[1, 2]])]);
+    assert!(t.iter().flat_map(|t| &t.pieces).all(|p| p.s == [0.0, 1.0]));
 }
