@@ -33,7 +33,8 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
     let (bodies, body_names) = bodies(&raw.body, &material_names, &materials, &interface_names, dir)?;
     let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
     let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
-    let tractions = super::traction::tractions(&raw.traction, &body_names, &bodies)?;
+    let outline = raw.domain.as_ref().map(|d| d.get_ref().vertices.get_ref().as_slice());
+    let tractions = super::traction::tractions(&raw.traction, &body_names, &bodies, outline)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
     let output = output(&raw.output)?;
     let model = Model {

@@ -12,15 +12,50 @@ use super::check::{Check, Names, fail, finite, history, optional, resolve, vec2}
 use super::raw;
 use crate::mesh::loops::boundary_loops;
 use crate::model::{BodySpec, Shape};
-use crate::traction::{Piece, Traction, TractionLaw, boundary_part};
+use crate::geometry::Vec2;
+use crate::traction::{Piece, Traction, TractionLaw, boundary_part, domain_tractions};
 
-/// All tractions, in file order.
+/// All tractions, in file order; `body = "domain"` (with a `[domain]`, whose `outline` is given)
+/// becomes one traction per block with edges on the outline between `from` and `to`.
 pub(super) fn tractions(
     raw: &[Spanned<raw::Traction>],
     body_names: &Names,
     bodies: &[BodySpec],
+    outline: Option<&[Vec<f64>]>,
 ) -> Check<Vec<Traction>> {
-    raw.iter().map(|t| traction(t.span(), t.get_ref(), body_names, bodies)).collect()
+    let mut out = Vec::with_capacity(raw.len());
+    for t in raw {
+        match outline.filter(|_| t.get_ref().body.get_ref() == "domain") {
+            Some(outline) => out.extend(domain(t.span(), t.get_ref(), bodies, outline)?),
+            None => out.push(traction(t.span(), t.get_ref(), body_names, bodies)?),
+        }
+    }
+    Ok(out)
+}
+
+/// A `body = "domain"` traction: every cut block edge on the domain's outline between the
+/// outline points nearest `from` and `to`, counter-clockwise (rock-mass design, section 4).
+fn domain(
+    header: Range<usize>,
+    t: &raw::Traction,
+    bodies: &[BodySpec],
+    outline: &[Vec<f64>],
+) -> Check<Vec<Traction>> {
+    if let Some(g) = &t.group {
+        return fail(g.span(), "a \"domain\" traction takes `from` and `to`, not `group`");
+    }
+    let (Some(from), Some(to)) = (&t.from, &t.to) else {
+        return Err(Problem::missing(header, "from", "a \"domain\" traction needs `from` and `to`"));
+    };
+    let (a, b) = (vec2(from, "from")?, vec2(to, "to")?);
+    let law = law(&header, t)?;
+    let history = optional(&t.history, "history", history)?;
+    let ring: Vec<Vec2> = outline.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+    let found = domain_tractions(&ring, bodies, a, b, law, history);
+    if found.is_empty() {
+        return fail(to.span(), "no block edge lies on the domain's outline between `from` and `to`");
+    }
+    Ok(found)
 }
 
 fn traction(
