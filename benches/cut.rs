@@ -10,12 +10,7 @@ use pbdda::rockmass::{CutSpec, JointSet, cut};
 use std::time::Instant;
 
 fn spec(spacing: f64) -> CutSpec {
-    let set = |angle: f64| JointSet {
-        angle,
-        spacing,
-        origin: [spacing / 2.0, spacing / 2.0],
-        ..JointSet::default()
-    };
+    let set = |angle: f64| JointSet { angle, spacing, ..JointSet::default() };
     CutSpec {
         domain: vec![[0.0, 0.0], [100.0, 0.0], [100.0, 100.0], [0.0, 100.0]],
         joint_sets: vec![set(0.0), set(90.0)],
