@@ -85,6 +85,7 @@ impl DiskPile {
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },
+            excavations: vec![],
         }
     }
 }
@@ -178,6 +179,7 @@ impl PressedBlock {
             connectors: vec![],
             monitors: vec![],
             output: OutputSettings { every: 1, steps_every: 1, vtk: true },
+            excavations: vec![],
         }
     }
 }

@@ -34,6 +34,7 @@ pub mod mesh;
 pub mod model;
 pub mod ntdda;
 pub mod output;
+pub mod rockmass;
 pub mod scene;
 pub mod vi;
 pub mod world;

@@ -21,6 +21,18 @@ pub struct Model {
     pub connectors: Vec<ConnectorSpec>,
     pub monitors: Vec<Monitor>,
     pub output: OutputSettings,
+    /// Excavations of a cut rock mass whose blocks stay in the model until a stage removes them
+    /// (`[[excavation]] stage`).
+    pub excavations: Vec<Excavation>,
+}
+
+/// A staged excavation: the bodies (blocks of a cut rock mass) inside it, kept and named so
+/// that a stage can remove them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excavation {
+    pub name: String,
+    /// Indices into `Model::bodies`.
+    pub bodies: Vec<usize>,
 }
 
 #[derive(Debug, Clone, Copy)]
@@ -107,6 +119,9 @@ pub struct Material {
 /// A contact law. `materials: None` is the default for all pairs.
 #[derive(Debug, Clone)]
 pub struct Interface {
+    /// `[[interface]] name`, unique when given; edges tagged with it (joints of a cut rock
+    /// mass, [`BodySpec::edge_interfaces`]) select it.
+    pub name: Option<String>,
     /// Indices into `Model::materials` (unordered pair), or `None` for the default entry.
     pub materials: Option<[usize; 2]>,
     /// Coulomb coefficient μ (from `friction`, or tan of `friction_angle`).
@@ -121,8 +136,14 @@ pub struct Interface {
 
 impl Interface {
     /// The frictionless, cohesionless law used when a scene gives no default interface.
-    pub const SMOOTH: Interface =
-        Interface { materials: None, friction: 0.0, cohesion: 0.0, tensile_strength: 0.0, rolling: 0.0 };
+    pub const SMOOTH: Interface = Interface {
+        name: None,
+        materials: None,
+        friction: 0.0,
+        cohesion: 0.0,
+        tensile_strength: 0.0,
+        rolling: 0.0,
+    };
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -214,6 +235,11 @@ pub struct BodySpec {
     pub angular_velocity: f64,
     /// Initial stress (σx, σy, τxy) [Pa], deformable bodies only.
     pub initial_stress: Option<[f64; 3]>,
+    /// Polygons: per edge (edge i from vertex i to i + 1), the interface its joint carries
+    /// (index into `Model::interfaces`), or `None`; empty for untagged bodies. A contact
+    /// between two edges tagged with the same interface takes that interface's law instead of
+    /// the material pair's (math note §4.14).
+    pub edge_interfaces: Vec<Option<usize>>,
 }
 
 impl BodySpec {
@@ -228,6 +254,7 @@ impl BodySpec {
             velocity: Vec2::zeros(),
             angular_velocity: 0.0,
             initial_stress: None,
+            edge_interfaces: Vec::new(),
         }
     }
 }

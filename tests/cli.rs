@@ -38,7 +38,7 @@ fn run_writes_the_output_contract() {
     );
     assert_eq!(
         header(&out.join("contacts.csv")),
-        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state"
+        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state,interface"
     );
     assert_eq!(
         header(&out.join("monitors.csv")),

@@ -50,6 +50,7 @@ fn body(i: usize, kind: u8, at: Vec2, size: f64, clamp: bool, rho: f64, young: f
         velocity: Vec2::zeros(),
         angular_velocity: 0.0,
         initial_stress: None,
+        edge_interfaces: Vec::new(),
     };
     let material = Material { name: "m".into(), density: rho, young: Some(young), poisson: Some(0.3) };
     Body::new(&spec, &material, Plane::Strain)

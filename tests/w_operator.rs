@@ -47,6 +47,7 @@ fn spec(i: usize, kind: u8, x: f64, y: f64, size: f64, fixed: bool, deformable: 
         velocity: Vec2::zeros(),
         angular_velocity: 0.0,
         initial_stress: None,
+        edge_interfaces: Vec::new(),
     }
 }
 

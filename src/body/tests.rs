@@ -11,6 +11,7 @@ fn spec(shape: Shape, model: BodyModel) -> BodySpec {
         velocity: Vec2::zeros(),
         angular_velocity: 0.0,
         initial_stress: None,
+        edge_interfaces: Vec::new(),
     }
 }
 

@@ -9,6 +9,16 @@ use std::path::Path;
 pub(super) fn check(scene_path: &Path, overrides: &[Override]) -> Result<()> {
     let model = scene::load_with(scene_path, overrides)?;
     out!("{}", summary(&model));
+    if !overrides.is_empty() {
+        return Ok(());
+    }
+    // the rock mass's blocks and every merge and join of its cut
+    let file = scene_path.display().to_string();
+    if let Ok(source) = std::fs::read_to_string(scene_path)
+        && let Ok((_, expansion)) = scene::parse_expanded(&source, &file)
+    {
+        out!("{}", super::cut::report(&expansion));
+    }
     Ok(())
 }
 

@@ -27,6 +27,7 @@ macro_rules! errln {
 }
 
 mod check;
+mod cut;
 mod import;
 mod progress;
 mod run;
@@ -90,6 +91,16 @@ pub enum Command {
         set: Vec<Override>,
     },
     /// Run the paper's examples (§7.1-7.10, built in) and print paper, exact and pbdda values.
+    /// Cut a scene's rock mass into blocks and write the scene with them as explicit bodies.
+    Cut {
+        scene: PathBuf,
+        /// The expanded scene file to write (meshed blocks' `.msh` files go beside it).
+        #[arg(long)]
+        out: PathBuf,
+        /// Also draw the blocks, the joints by set and the bolts into this PNG file.
+        #[arg(long)]
+        png: Option<PathBuf>,
+    },
     Validate {
         /// Also write the table as a Markdown report to this file.
         #[arg(long, value_name = "FILE")]
@@ -161,6 +172,7 @@ pub fn main(cli: Cli) -> Result<()> {
         }
         Command::Resume { dir, quiet } => run::resume(&dir, quiet),
         Command::Check { scene, set } => check::check(&scene, &set),
+        Command::Cut { scene, out, png } => cut::cut(&scene, &out, png.as_deref()),
         Command::Validate { markdown } => validate::command(markdown.as_deref()),
         Command::Sweep { scene, set, reference, out, quiet } => {
             let options = SweepOptions { reference, quiet };

@@ -1,7 +1,7 @@
 //! Contact laws and memory across steps: which interface applies to a pair, which contacts
 //! form an edge-edge joint, and what each contact remembers from the previous step.
 
-use super::{ContactGeom, ContactKey, JointKey};
+use super::{ContactGeom, ContactKey, Feature, JointKey};
 use crate::model::Interface;
 use std::collections::HashMap;
 
@@ -67,15 +67,46 @@ impl Lookup<'_> {
 }
 
 /// The interface law for a pair of materials: the entry naming the pair, else the default
-/// entry (no `materials`), else a smooth interface.
+/// entry (no `materials`, no `name`), else a smooth interface. A named entry without
+/// `materials` is a joint's law only: edges tagged with it select it ([`shared_tag`]).
 pub fn interface_for(interfaces: &[Interface], ma: usize, mb: usize) -> &Interface {
     let pair =
         |i: &&Interface| matches!(i.materials, Some([x, y]) if (x, y) == (ma, mb) || (y, x) == (ma, mb));
     interfaces
         .iter()
         .find(pair)
-        .or_else(|| interfaces.iter().find(|i| i.materials.is_none()))
+        .or_else(|| interfaces.iter().find(|i| i.materials.is_none() && i.name.is_none()))
         .unwrap_or(&Interface::SMOOTH)
+}
+
+/// The interface a contact's two features share through their edge tags (math note §4.14):
+/// `tags(b)` is body b's [`crate::model::BodySpec::edge_interfaces`] (empty: untagged). An
+/// edge-edge joint's contacts take the tag of the joint's two edges if they carry the same one;
+/// a vertex-edge contact outside a joint the edge's tag if one of the two edges meeting at the
+/// vertex carries it. `None`: the material pair's interface applies.
+pub fn shared_tag<'a>(g: &ContactGeom, tags: impl Fn(usize) -> &'a [Option<usize>]) -> Option<usize> {
+    if tags(g.a).is_empty() || tags(g.b).is_empty() {
+        return None;
+    }
+    let tag = |body: u32, edge: u32| tags(body as usize).get(edge as usize).copied().flatten();
+    if let Some(j) = g.joint {
+        let lo = tag(j.body_lo, j.edge_lo)?;
+        return (tag(j.body_hi, j.edge_hi) == Some(lo)).then_some(lo);
+    }
+    // the tags of the edges at a feature: an edge's own, or the two edges meeting at a vertex
+    let near = |body: usize, f: Feature| {
+        let t = tags(body);
+        match f {
+            Feature::Edge(e) => [t.get(e as usize).copied().flatten(), None],
+            Feature::Vertex(v) => {
+                let before = (v as usize + t.len() - 1) % t.len();
+                [t[before], t.get(v as usize).copied().flatten()]
+            }
+            Feature::Outer | Feature::Inner => [None, None],
+        }
+    };
+    let (x, y) = (near(g.a, g.key.fa), near(g.b, g.key.fb));
+    x.into_iter().flatten().find(|t| y.contains(&Some(*t)))
 }
 
 /// [`interface_for`] of every pair of materials, found once per detection: the search over the

@@ -67,7 +67,7 @@ const HEADERS: [(&str, &str); 4] = [
     ),
     (
         "contacts.csv",
-        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state",
+        "step,time,body_a,body_b,kind,x,y,nx,ny,normal_force,shear_force,rolling_moment,gap,state,interface",
     ),
     ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy,stress_x,stress_y,stress_xy"),
     (
@@ -317,5 +317,6 @@ fn contact_row(out: &mut Vec<u8>, head: &[u8], world: &World, c: &ContactRecord)
     if let Some(m) = c.rolling_moment {
         write!(out, "{}", Num(m))?;
     }
-    writeln!(out, ",{},{}", Num(c.gap), c.state.as_str())
+    let interface = c.interface.and_then(|i| world.model.interfaces[i].name.as_deref()).unwrap_or("");
+    writeln!(out, ",{},{},{interface}", Num(c.gap), c.state.as_str())
 }

@@ -28,7 +28,8 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
     let solver = solver(&raw.solver)?;
     let (materials, material_names) = materials(&raw.material)?;
     let interfaces = interfaces(&raw.interface, &material_names)?;
-    let (bodies, body_names) = bodies(&raw.body, &material_names, &materials, dir)?;
+    let interface_names = interface_names(&raw.interface)?;
+    let (bodies, body_names) = bodies(&raw.body, &material_names, &materials, &interface_names, dir)?;
     let loads = raw.load.iter().map(|l| load(l, &body_names)).collect::<Check<_>>()?;
     let connectors = super::connectors::connectors(&raw.connector, &body_names, &bodies)?;
     let monitors = monitors(&raw.monitor, &body_names)?;
@@ -46,6 +47,7 @@ pub(super) fn model(raw: &raw::Scene, dir: &std::path::Path) -> Check<Model> {
         connectors,
         monitors,
         output,
+        excavations: Vec::new(),
     };
     super::limits::first_step(raw, &model)?;
     super::overlap::no_body_inside_another(&model.bodies, raw.body.get_ref())?;
@@ -290,7 +292,9 @@ fn interfaces(raw: &[Spanned<raw::Interface>], materials: &Names) -> Check<Vec<I
         let (header, r) = (r.span(), r.get_ref());
         let interface = interface(r, materials)?;
         let pair = interface.materials.map(|[a, b]| [a.min(b), a.max(b)]);
-        if let Some(first) = seen.insert(pair, i) {
+        // a named interface without materials is a joint's law, not a default
+        let joint_only = pair.is_none() && interface.name.is_some();
+        if let Some(first) = (!joint_only).then(|| seen.insert(pair, i)).flatten() {
             let (span, what) = match &r.materials {
                 None => (header, "a second default interface (one without `materials`)"),
                 Some(m) => (m.span(), "a second interface for the same pair of materials"),
@@ -303,9 +307,28 @@ fn interfaces(raw: &[Spanned<raw::Interface>], materials: &Names) -> Check<Vec<I
     Ok(list)
 }
 
+/// Name -> index of the named interfaces; names are unique.
+pub(super) fn interface_names(raw: &[Spanned<raw::Interface>]) -> Check<Names<'_>> {
+    let mut names = Names::new();
+    for (i, r) in raw.iter().enumerate() {
+        let Some(name) = &r.get_ref().name else { continue };
+        // checked one at a time, so that a duplicate names the interface index of the file
+        unique_names(std::iter::once(name), "interface")?;
+        if let Some(first) = names.insert(name.get_ref().as_str(), i) {
+            let message = format!(
+                "duplicate interface name \"{}\" (already used by interface[{first}])",
+                name.get_ref()
+            );
+            return fail(name.span(), message);
+        }
+    }
+    Ok(names)
+}
+
 fn interface(r: &raw::Interface, materials: &Names) -> Check<Interface> {
     let pair = |m: &Spanned<_>, _: &str| material_pair(m, materials);
     Ok(Interface {
+        name: r.name.as_ref().map(|n| n.get_ref().clone()),
         materials: optional(&r.materials, "materials", pair)?,
         friction: friction(r)?,
         cohesion: or_default(&r.cohesion, "cohesion", non_negative, 0.0)?,
@@ -357,13 +380,18 @@ fn bodies<'a>(
     raw: &'a Spanned<Vec<Spanned<raw::Body>>>,
     materials: &Names,
     material_list: &[Material],
+    interfaces: &Names,
     dir: &std::path::Path,
 ) -> Check<(Vec<BodySpec>, Names<'a>)> {
     if raw.get_ref().is_empty() {
         return fail(raw.span(), "a scene needs at least one [[body]]");
     }
     let names = unique_names(raw.get_ref().iter().map(|b| &b.get_ref().name), "body")?;
-    let list = raw.get_ref().iter().map(|b| body(b, materials, material_list, dir)).collect::<Check<_>>()?;
+    let list = raw
+        .get_ref()
+        .iter()
+        .map(|b| body(b, materials, material_list, interfaces, dir))
+        .collect::<Check<_>>()?;
     Ok((list, names))
 }
 
@@ -371,6 +399,7 @@ fn body(
     b: &Spanned<raw::Body>,
     materials: &Names,
     material_list: &[Material],
+    interfaces: &Names,
     dir: &std::path::Path,
 ) -> Check<BodySpec> {
     let (header, b) = (b.span(), b.get_ref());
@@ -390,6 +419,7 @@ fn body(
         Some(s) => Some(numbers(s.get_ref(), s.span(), "initial_stress")?),
         None => None,
     };
+    let edge_interfaces = edge_interfaces(b, &shape, interfaces)?;
     Ok(BodySpec {
         name: b.name.get_ref().clone(),
         shape,
@@ -399,7 +429,36 @@ fn body(
         velocity: or_default(&b.velocity, "velocity", vec2, Vec2::zeros())?,
         angular_velocity: or_default(&b.angular_velocity, "angular_velocity", finite, 0.0)?,
         initial_stress,
+        edge_interfaces,
     })
+}
+
+/// `edge_interfaces`: one interface name ("" for none) per polygon edge, in the order of the
+/// vertices as given (re-ordered with them when they are stored counter-clockwise).
+fn edge_interfaces(b: &raw::Body, shape: &Shape, interfaces: &Names) -> Check<Vec<Option<usize>>> {
+    let Some(tags) = &b.edge_interfaces else { return Ok(Vec::new()) };
+    let Shape::Polygon { vertices } = shape else {
+        return fail(tags.span(), "edge_interfaces is only for polygon bodies");
+    };
+    let n = vertices.len();
+    if tags.get_ref().len() != n {
+        let message =
+            format!("edge_interfaces must name {n} interfaces, one per edge (got {})", tags.get_ref().len());
+        return fail(tags.span(), message);
+    }
+    let mut list: Vec<Option<usize>> = tags
+        .get_ref()
+        .iter()
+        .map(
+            |t| if t.get_ref().is_empty() { Ok(None) } else { resolve(interfaces, t, "interface").map(Some) },
+        )
+        .collect::<Check<_>>()?;
+    let given = pairs(need(b, &(0..0), &b.vertices, "vertices")?, "vertices")?;
+    if given.first() != vertices.first() || given.get(1) != vertices.get(1) {
+        // reversed: stored edge i runs from given vertex n-1-i to n-2-i, given edge n-2-i
+        list = (0..n).map(|i| list[(2 * n - 2 - i) % n]).collect();
+    }
+    Ok(list)
 }
 
 /// `model`: "rigid" (default) or "deformable", which needs the material's `young` and
@@ -512,7 +571,7 @@ fn polygon(v: &Spanned<Vec<Vec<f64>>>) -> Check<Shape> {
     Ok(Shape::Polygon { vertices })
 }
 
-fn defect_message(defect: &PolygonDefect, n: usize) -> String {
+pub(super) fn defect_message(defect: &PolygonDefect, n: usize) -> String {
     let edge = |i: usize| format!("vertices[{i}]-vertices[{}]", (i + 1) % n);
     match defect {
         PolygonDefect::TooFewVertices => format!("a polygon needs at least 3 vertices (got {n})"),

@@ -17,6 +17,10 @@ use crate::model::{BodyModel, Material, MeshShape, Shape};
 /// The shape of a mesh body: reads the file, selects the surface, applies scale and offset and
 /// resolves the `fixed_nodes` groups.
 pub(super) fn shape(b: &raw::Body, header: &Range<usize>, dir: &Path) -> Check<Shape> {
+    if let Some(mesh) = &b.generated_mesh {
+        let shape = crate::model::MeshShape { mesh: mesh.clone(), fixed_nodes: Vec::new() };
+        return Ok(Shape::Mesh(Box::new(shape)));
+    }
     let file = need(b, header, &b.file, "file")?;
     let path = dir.join(file.get_ref());
     let mesh = Mesh::read(&path).map_err(|e| problem(file.span(), &e))?;

@@ -9,13 +9,16 @@
 //! (`body[2].radius`, array indices 0-based) of every key and array element, turns it into a
 //! [`SceneError`] naming file, line, column and key.
 
+mod bolts;
 mod check;
 mod connectors;
+mod expanded;
 mod limits;
 mod mesh;
 mod overlap;
 pub mod overrides;
 mod raw;
+mod rockmass;
 
 use std::cmp::Reverse;
 use std::ops::Range;
@@ -25,8 +28,10 @@ use serde::Deserialize;
 use toml::de::{DeTable, DeValue, Deserializer};
 
 pub use crate::error::SceneError;
-use crate::model::Model;
+use crate::model::{Excavation, Model};
+pub use expanded::{Expanded, expanded};
 pub use overrides::{Override, load_with, parse_with};
+pub use rockmass::Expansion;
 
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.
 pub fn load(path: &Path) -> Result<Model, SceneError> {
@@ -56,12 +61,35 @@ pub fn parse_bytes(bytes: &[u8], file_name: &str) -> Result<Model, SceneError> {
 
 /// Validates the scene text `source`; `file_name` is only used in error messages.
 pub fn parse(source: &str, file_name: &str) -> Result<Model, SceneError> {
+    parse_raw(source, file_name).map(|(_, model, _)| model)
+}
+
+/// [`parse`], with what the rock-mass keys and bolt patterns expanded into (`pbdda check`).
+pub fn parse_expanded(source: &str, file_name: &str) -> Result<(Model, Expansion), SceneError> {
+    parse_raw(source, file_name).map(|(_, model, expansion)| (model, expansion))
+}
+
+/// The raw scene after the expansion of its rock mass and bolts, the model and the expansion.
+fn parse_raw(source: &str, file_name: &str) -> Result<(raw::Scene, Model, Expansion), SceneError> {
     let fail = |problem: Problem| problem.into_error(source, file_name);
     let toml_fail = |e: toml::de::Error| fail(Problem::from_toml(&e, source));
     let root = DeTable::parse(source).map_err(toml_fail)?;
-    let raw = raw::Scene::deserialize(Deserializer::from(root)).map_err(toml_fail)?;
+    let mut raw = raw::Scene::deserialize(Deserializer::from(root)).map_err(toml_fail)?;
+    let mut expansion = rockmass::expand(&mut raw).map_err(fail)?;
+    expansion.connectors = bolts::expand(&mut raw, &expansion.outlines).map_err(fail)?;
     let dir = Path::new(file_name).parent().unwrap_or(Path::new(""));
-    check::model(&raw, dir).map_err(fail)
+    let mut model = check::model(&raw, dir).map_err(fail)?;
+    let index: std::collections::HashMap<&str, usize> =
+        model.bodies.iter().enumerate().map(|(i, b)| (b.name.as_str(), i)).collect();
+    model.excavations = expansion
+        .staged
+        .iter()
+        .map(|(name, blocks)| Excavation {
+            name: name.clone(),
+            bodies: blocks.iter().filter_map(|b| index.get(b.as_str()).copied()).collect(),
+        })
+        .collect();
+    Ok((raw, model, expansion))
 }
 
 /// What is wrong, and where: a byte span of the source.

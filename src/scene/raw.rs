@@ -24,6 +24,8 @@ pub(super) struct Scene {
     pub material: Vec<Material>,
     #[serde(default)]
     pub interface: Vec<Spanned<Interface>>,
+    /// Absent: the `[domain]`'s blocks are the bodies (an empty list at no span otherwise).
+    #[serde(default = "no_bodies")]
     pub body: Spanned<Vec<Spanned<Body>>>,
     #[serde(default)]
     pub load: Vec<Load>,
@@ -33,6 +35,22 @@ pub(super) struct Scene {
     pub monitor: Vec<Monitor>,
     #[serde(default)]
     pub output: Output,
+    /// A rock mass cut from joints (scene::rockmass).
+    pub domain: Option<Spanned<Domain>>,
+    #[serde(default)]
+    pub joint_set: Vec<Spanned<JointSet>>,
+    #[serde(default)]
+    pub joint: Vec<Spanned<Joint>>,
+    #[serde(default)]
+    pub excavation: Vec<Spanned<Excavation>>,
+    #[serde(default)]
+    pub region: Vec<Spanned<Region>>,
+    #[serde(default)]
+    pub bolt_pattern: Vec<Spanned<BoltPattern>>,
+}
+
+fn no_bodies() -> Spanned<Vec<Spanned<Body>>> {
+    Spanned::new(0..0, Vec::new())
 }
 
 /// `[scene]`
@@ -94,6 +112,7 @@ pub(super) struct Material {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub(super) struct Interface {
+    pub name: Option<Spanned<String>>,
     pub materials: Option<Spanned<Vec<Spanned<String>>>>,
     pub friction: Option<Spanned<f64>>,
     pub friction_angle: Option<Spanned<f64>>,
@@ -130,6 +149,11 @@ pub(super) struct Body {
     pub angular_velocity: Option<Spanned<f64>>,
     /// Deformable bodies only: (σx, σy, τxy) [Pa].
     pub initial_stress: Option<Spanned<Vec<f64>>>,
+    /// Polygons: per edge, the name of the interface its joint carries ("" for none).
+    pub edge_interfaces: Option<Spanned<Vec<Spanned<String>>>>,
+    /// A block meshed by the rock-mass expansion (no file); never read from a scene.
+    #[serde(skip)]
+    pub generated_mesh: Option<crate::mesh::Mesh>,
 }
 
 /// `[[load]]`
@@ -158,6 +182,14 @@ pub(super) struct Connector {
     pub shear_factor: Option<Spanned<f64>>,
     pub pretension: Option<Spanned<f64>>,
     pub strength: Option<Spanned<f64>>,
+    /// Bolts: anchored in every block crossed (split into segments by the rock-mass expansion).
+    pub grouted: Option<Spanned<bool>>,
+    /// Bolts [N]: the axial force is capped there (stored; see `ConnectorSpec`).
+    pub yield_force: Option<Spanned<f64>>,
+    /// Bolts: breaks for good past this axial strain (stored).
+    pub ultimate_strain: Option<Spanned<f64>>,
+    /// The stage at whose start the connector comes into being (stored).
+    pub stage: Option<Spanned<String>>,
 }
 
 /// `[[monitor]]`
@@ -176,4 +208,88 @@ pub(super) struct Output {
     pub every: Option<Spanned<i64>>,
     pub steps_every: Option<Spanned<i64>>,
     pub vtk: Option<bool>,
+}
+
+/// `[domain]`: the outline of a rock mass cut into blocks before t = 0.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Domain {
+    pub vertices: Spanned<Vec<Vec<f64>>>,
+    pub material: Spanned<String>,
+    pub model: Option<Spanned<String>>,
+    pub mesh_size: Option<Spanned<f64>>,
+    pub seed: Option<Spanned<i64>>,
+    pub min_edge: Option<Spanned<f64>>,
+    pub block_limit: Option<Spanned<i64>>,
+    pub fixed_points: Option<Spanned<Vec<Vec<f64>>>>,
+}
+
+/// `[[joint_set]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct JointSet {
+    #[allow(dead_code)] // names the set for the reader of the scene only
+    pub name: Option<Spanned<String>>,
+    pub angle: Spanned<f64>,
+    pub spacing: Spanned<f64>,
+    pub origin: Option<Spanned<Vec<f64>>>,
+    pub trace: Option<Spanned<f64>>,
+    pub gap: Option<Spanned<f64>>,
+    pub angle_dev: Option<Spanned<f64>>,
+    pub spacing_dev: Option<Spanned<f64>>,
+    pub trace_dev: Option<Spanned<f64>>,
+    pub gap_dev: Option<Spanned<f64>>,
+    pub interface: Option<Spanned<String>>,
+    pub bridges: Option<Spanned<String>>,
+    pub bridge_interface: Option<Spanned<String>>,
+}
+
+/// `[[joint]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Joint {
+    pub points: Spanned<Vec<Vec<f64>>>,
+    pub interface: Option<Spanned<String>>,
+}
+
+/// `[[excavation]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Excavation {
+    pub name: Spanned<String>,
+    pub center: Option<Spanned<Vec<f64>>>,
+    pub radius: Option<Spanned<f64>>,
+    pub segments: Option<Spanned<i64>>,
+    pub vertices: Option<Spanned<Vec<Vec<f64>>>>,
+    pub stage: Option<Spanned<String>>,
+    /// Without a `[domain]`: the bodies a staged excavation holds (as `pbdda cut` writes it).
+    pub bodies: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// `[[region]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct Region {
+    pub vertices: Spanned<Vec<Vec<f64>>>,
+    pub material: Option<Spanned<String>>,
+    pub fixed: Option<Spanned<bool>>,
+}
+
+/// `[[bolt_pattern]]`
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub(super) struct BoltPattern {
+    pub name: Spanned<String>,
+    pub excavation: Spanned<String>,
+    pub spacing: Spanned<f64>,
+    pub range: Option<Spanned<Vec<f64>>>,
+    pub length: Spanned<f64>,
+    pub young: Spanned<f64>,
+    pub area: Spanned<f64>,
+    pub pretension: Option<Spanned<f64>>,
+    pub strength: Option<Spanned<f64>>,
+    pub grouted: Option<Spanned<bool>>,
+    pub yield_force: Option<Spanned<f64>>,
+    pub ultimate_strain: Option<Spanned<f64>>,
+    pub stage: Option<Spanned<String>>,
 }

@@ -4,7 +4,7 @@ use super::World;
 use super::rows::{Linearization, Site};
 use crate::contact::broad::PairCache;
 use crate::contact::law::Law;
-use crate::contact::set::{ContactMemory, InterfaceTable, Memory, joint_partners};
+use crate::contact::set::{ContactMemory, InterfaceTable, Memory, joint_partners, shared_tag};
 use crate::contact::{ContactGeom, ContactKey, ContactKind, detect, detect_in_order, label_mesh_kind};
 use crate::model::Interface;
 
@@ -143,7 +143,8 @@ impl World {
         // through the bodies took 0.3 of detection's loop in perf's samples on the 10,000-disk
         // pile
         let bodies = self.bodies.len();
-        let (mut materials, mut fixed, mut sites, mut reach, mut shapes) = (
+        let (mut materials, mut fixed, mut sites, mut reach, mut shapes, mut tags) = (
+            Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
@@ -158,7 +159,9 @@ impl World {
             sites.push(Site::of(body, b, &self.dofs));
             reach.push(body.mesh.is_none().then_some(body.reach));
             shapes.push(body.shape());
+            tags.push(self.model.bodies[b].edge_interfaces.as_slice());
         }
+        let tagged = tags.iter().any(|t| !t.is_empty());
         let threshold = self.threshold.max(2.5 * u_max);
         let pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         let geoms = detect_in_order(&shapes, &pairs, threshold, self.threshold);
@@ -179,7 +182,11 @@ impl World {
             }
             joints |= geom.joint.is_some();
             let memory = memory.get(&geom.key);
-            let law = self.law(geom, interfaces.get(materials[geom.a], materials[geom.b]), memory, row);
+            let interface = match tagged.then(|| shared_tag(geom, |b| tags[b])).flatten() {
+                Some(i) => &self.model.interfaces[i],
+                None => interfaces.get(materials[geom.a], materials[geom.b]),
+            };
+            let law = self.law(geom, interface, memory, row);
             row += law.rows();
             let start_gap = solver_gap(geom.g0, self.allowance, memory.is_some());
             let force = memory.map_or([0.0; 3], |m| m.force);
@@ -229,7 +236,9 @@ impl World {
         let bonds = detect(&shapes, &fixed, self.threshold)
             .into_iter()
             .filter(|g| {
-                let law = self.interface(g.a, g.b);
+                let law = self
+                    .contact_interface(g)
+                    .map_or_else(|| self.interface(g.a, g.b), |i| &self.model.interfaces[i]);
                 law.tensile_strength > 0.0 && g.joint_length > 0.0 && g.g0.abs() <= closed
             })
             .map(|g| (g.key, Memory { force: [0.0; 3], closed: true, bonded: true }))

@@ -342,6 +342,22 @@ impl World {
         interface_for(&self.model.interfaces, self.bodies[a].material, self.bodies[b].material)
     }
 
+    /// The interface (index into the model's) a contact's edge tags select
+    /// ([`crate::contact::set::shared_tag`]), if any.
+    fn contact_interface(&self, g: &crate::contact::ContactGeom) -> Option<usize> {
+        let bodies = &self.model.bodies;
+        crate::contact::set::shared_tag(g, |b| bodies[b].edge_interfaces.as_slice())
+    }
+
+    /// The index of the interface whose law a contact takes: its tags' ([`Self::contact_interface`])
+    /// or its material pair's; `None` for the smooth law of a scene without a default.
+    fn law_index(&self, g: &crate::contact::ContactGeom) -> Option<usize> {
+        self.contact_interface(g).or_else(|| {
+            let law = self.interface(g.a, g.b);
+            self.model.interfaces.iter().position(|i| std::ptr::eq(i, law))
+        })
+    }
+
     /// The QVI bound rule over the contacts' laws (contact/law.rs).
     fn bounds<'a>(&self, laws: &'a [crate::contact::law::Law]) -> ContactBounds<'a> {
         ContactBounds { laws, share_cohesion: self.settings.share_cohesion }

@@ -45,6 +45,9 @@ pub struct ContactRecord {
     /// Normal gap at the end of the step (linearized, solve 1) [m].
     pub gap: f64,
     pub state: ContactState,
+    /// The interface whose law the contact takes (index into the model's), `None` for the
+    /// smooth law of a scene without a default interface.
+    pub interface: Option<usize>,
 }
 
 /// Which VI solve of a step (math note §1.3, §10.1).

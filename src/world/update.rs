@@ -188,6 +188,7 @@ impl World {
                 rolling_moment: (law.rolling > 0.0).then(|| s.z2[r + 2]),
                 gap: s.state.gaps[r],
                 state,
+                interface: self.law_index(c),
             });
         }
         self.memory = ContactMemory::from_entries(memory);

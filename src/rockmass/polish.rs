@@ -1,0 +1,303 @@
+//! From the cut's regions to blocks: edge sources, merges of close vertices, joins of thin
+//! blocks, removal of straight-through vertices, the block order (math note §12.3, §12.4).
+
+use std::collections::HashMap;
+
+use super::arrange::Arrangement;
+use super::estimate::Checked;
+use super::join::{Poly, join_thin};
+use super::traces::Segment;
+use super::{Block, Cut, CutError, CutSpec, EdgeSource, Report};
+use crate::geometry::{Vec2, check_simple_polygon};
+
+/// Input segments bucketed on a grid, to find which one a cut edge lies on.
+pub(crate) struct SegmentGrid<'a> {
+    inputs: &'a [Segment],
+    lo: [f64; 2],
+    cell: f64,
+    nx: usize,
+    ny: usize,
+    cells: Vec<Vec<u32>>,
+    tol: f64,
+}
+
+impl<'a> SegmentGrid<'a> {
+    pub(crate) fn new(inputs: &'a [Segment], checked: &Checked) -> Self {
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for s in inputs {
+            for p in [s.a, s.b] {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        let extent = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(checked.scale * 1e-6);
+        let per_side = ((inputs.len() as f64).sqrt().ceil() as usize).clamp(1, 1000);
+        let cell = extent / per_side as f64 * 1.000001;
+        let (nx, ny) = (per_side + 1, per_side + 1);
+        let mut cells = vec![Vec::new(); nx * ny];
+        let mut grid = Self { inputs, lo, cell, nx, ny, cells: Vec::new(), tol: 1e-7 * checked.scale };
+        for (k, s) in inputs.iter().enumerate() {
+            let length = (s.b[0] - s.a[0]).hypot(s.b[1] - s.a[1]);
+            let steps = (2.0 * length / cell).ceil() as usize + 1;
+            let mut last = usize::MAX;
+            for i in 0..=steps {
+                let t = i as f64 / steps as f64;
+                let c = grid.cell_of([s.a[0] + t * (s.b[0] - s.a[0]), s.a[1] + t * (s.b[1] - s.a[1])]);
+                if c != last {
+                    cells[c].push(k as u32);
+                    last = c;
+                }
+            }
+        }
+        grid.cells = cells;
+        grid
+    }
+
+    fn ij(&self, p: [f64; 2]) -> (usize, usize) {
+        let i = ((p[0] - self.lo[0]) / self.cell).floor().clamp(0.0, (self.nx - 1) as f64) as usize;
+        let j = ((p[1] - self.lo[1]) / self.cell).floor().clamp(0.0, (self.ny - 1) as f64) as usize;
+        (i, j)
+    }
+
+    fn cell_of(&self, p: [f64; 2]) -> usize {
+        let (i, j) = self.ij(p);
+        j * self.nx + i
+    }
+
+    /// The source of the cut edge `a`-`b`: of the input segments it lies on (both ends within
+    /// 1e-7 of the domain's size of the segment's line, its midpoint within the segment), the
+    /// first in [`EdgeSource`]'s order.
+    pub(crate) fn source(&self, a: [f64; 2], b: [f64; 2]) -> Option<EdgeSource> {
+        let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let (i, j) = self.ij(m);
+        let mut best: Option<EdgeSource> = None;
+        for jj in j.saturating_sub(1)..=(j + 1).min(self.ny - 1) {
+            for ii in i.saturating_sub(1)..=(i + 1).min(self.nx - 1) {
+                for &k in &self.cells[jj * self.nx + ii] {
+                    let s = &self.inputs[k as usize];
+                    if best.is_some_and(|b| b <= s.source) || !self.on(s, a, b, m) {
+                        continue;
+                    }
+                    best = Some(s.source);
+                }
+            }
+        }
+        best
+    }
+
+    fn on(&self, s: &Segment, a: [f64; 2], b: [f64; 2], m: [f64; 2]) -> bool {
+        let d = [s.b[0] - s.a[0], s.b[1] - s.a[1]];
+        let l = d[0].hypot(d[1]);
+        if l == 0.0 {
+            return false;
+        }
+        let off = |p: [f64; 2]| ((p[0] - s.a[0]) * d[1] - (p[1] - s.a[1]) * d[0]).abs() / l;
+        let along = ((m[0] - s.a[0]) * d[0] + (m[1] - s.a[1]) * d[1]) / l;
+        off(a) <= self.tol && off(b) <= self.tol && along >= -self.tol && along <= l + self.tol
+    }
+}
+
+/// Merges, joins, clean-up and the block order.
+pub(crate) fn finish(spec: &CutSpec, checked: &Checked, arr: Arrangement) -> Result<Cut, CutError> {
+    let Arrangement { positions, rank, regions, mut reports } = arr;
+    let rep = merge_vertices(&positions, &rank, &regions, checked.merge, &mut reports);
+    let mut polys = Vec::new();
+    for r in regions {
+        let verts: Vec<usize> = r.verts.iter().map(|&v| rep[v]).collect();
+        split_pinches(&positions, verts, r.edges, r.excavation, &mut polys, &mut reports);
+    }
+    if spec.min_edge > 0.0 {
+        join_thin(&positions, &mut polys, spec.min_edge, &mut reports);
+    }
+    let mut blocks = Vec::with_capacity(polys.len());
+    for p in polys.into_iter().filter(|p| p.alive) {
+        let (verts, edges) = straighten(&positions, p.verts, p.edges);
+        blocks.push(block(&positions, &verts, edges, p.excavation)?);
+    }
+    blocks.sort_by(super::block_order);
+    Ok(Cut { blocks, reports })
+}
+
+/// Union-find of the used vertices closer than `tol`; each vertex's representative, the one of
+/// lowest (rank, index) in its cluster. One report per cluster of two or more.
+fn merge_vertices(
+    positions: &[[f64; 2]],
+    rank: &[u8],
+    regions: &[super::arrange::Region],
+    tol: f64,
+    reports: &mut Vec<Report>,
+) -> Vec<usize> {
+    let mut parent: Vec<usize> = (0..positions.len()).collect();
+    fn root(parent: &mut [usize], mut v: usize) -> usize {
+        while parent[v] != v {
+            parent[v] = parent[parent[v]];
+            v = parent[v];
+        }
+        v
+    }
+    let mut used: Vec<usize> = regions.iter().flat_map(|r| r.verts.iter().copied()).collect();
+    used.sort_unstable();
+    used.dedup();
+    let key = |p: [f64; 2]| ((p[0] / tol).floor() as i64, (p[1] / tol).floor() as i64);
+    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for &v in &used {
+        grid.entry(key(positions[v])).or_default().push(v);
+    }
+    for &v in &used {
+        let (i, j) = key(positions[v]);
+        for di in -1..=1 {
+            for dj in -1..=1 {
+                let Some(others) = grid.get(&(i + di, j + dj)) else { continue };
+                for &w in others {
+                    let (p, q) = (positions[v], positions[w]);
+                    if w > v && (p[0] - q[0]).hypot(p[1] - q[1]) < tol {
+                        let (a, b) = (root(&mut parent, v), root(&mut parent, w));
+                        if a != b {
+                            // the root is the one of lowest (rank, index)
+                            let (keep, drop) = if (rank[a], a) <= (rank[b], b) { (a, b) } else { (b, a) };
+                            parent[drop] = keep;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut rep: Vec<usize> = (0..positions.len()).collect();
+    let mut clusters: HashMap<usize, (usize, f64)> = HashMap::new();
+    for &v in &used {
+        let r = root(&mut parent, v);
+        rep[v] = r;
+        let (p, q) = (positions[v], positions[r]);
+        let e = clusters.entry(r).or_insert((0, 0.0));
+        e.0 += 1;
+        e.1 = e.1.max((p[0] - q[0]).hypot(p[1] - q[1]));
+    }
+    let mut list: Vec<(usize, (usize, f64))> = clusters.into_iter().filter(|c| c.1.0 > 1).collect();
+    list.sort_unstable_by_key(|c| c.0);
+    for (r, (count, distance)) in list {
+        reports.push(Report::MergedVertices { count, distance, at: positions[r] });
+    }
+    rep
+}
+
+/// Drops edges whose ends merged and splits a loop that now touches itself into simple loops;
+/// loops of no positive area are dropped (reported).
+fn split_pinches(
+    positions: &[[f64; 2]],
+    verts: Vec<usize>,
+    edges: Vec<EdgeSource>,
+    excavation: Option<usize>,
+    out: &mut Vec<Poly>,
+    reports: &mut Vec<Report>,
+) {
+    let n = verts.len();
+    let mut stack: Vec<(usize, EdgeSource)> = Vec::with_capacity(n);
+    let mut at: HashMap<usize, usize> = HashMap::new();
+    let mut emit = |lp: Vec<(usize, EdgeSource)>, out: &mut Vec<Poly>| {
+        let vs: Vec<usize> = lp.iter().map(|e| e.0).collect();
+        let a = area2(positions, &vs) / 2.0;
+        if vs.len() >= 3 && a > 0.0 {
+            out.push(Poly { verts: vs, edges: lp.iter().map(|e| e.1).collect(), excavation, alive: true });
+        } else if !vs.is_empty() {
+            reports.push(Report::DroppedSliver { area: a.abs(), at: positions[vs[0]] });
+        }
+    };
+    for i in 0..n {
+        let (v, w) = (verts[i], verts[(i + 1) % n]);
+        if v == w {
+            continue;
+        }
+        if let Some(&k) = at.get(&v) {
+            let lp: Vec<(usize, EdgeSource)> = stack.drain(k..).collect();
+            for e in &lp {
+                at.remove(&e.0);
+            }
+            emit(lp, out);
+        }
+        at.insert(v, stack.len());
+        stack.push((v, edges[i]));
+    }
+    emit(stack, out);
+}
+
+pub(crate) fn area2(positions: &[[f64; 2]], verts: &[usize]) -> f64 {
+    let n = verts.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let o = positions[verts[0]];
+    let mut s = 0.0;
+    for i in 1..n.saturating_sub(1) {
+        let (p, q) = (positions[verts[i]], positions[verts[i + 1]]);
+        s += (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0]);
+    }
+    s
+}
+
+/// Removes vertices where the outline runs straight on (or folds straight back), to 1e-10 in
+/// the sine of the turn; the joined edge keeps the first of the two sources.
+fn straighten(
+    positions: &[[f64; 2]],
+    mut verts: Vec<usize>,
+    mut edges: Vec<EdgeSource>,
+) -> (Vec<usize>, Vec<EdgeSource>) {
+    let mut changed = true;
+    while changed && verts.len() > 3 {
+        changed = false;
+        let mut i = 0;
+        while i < verts.len() && verts.len() > 3 {
+            let n = verts.len();
+            let (a, b, c) =
+                (positions[verts[(i + n - 1) % n]], positions[verts[i]], positions[verts[(i + 1) % n]]);
+            let u = [b[0] - a[0], b[1] - a[1]];
+            let w = [c[0] - b[0], c[1] - b[1]];
+            let cross = u[0] * w[1] - u[1] * w[0];
+            if cross.abs() <= 1e-10 * u[0].hypot(u[1]) * w[0].hypot(w[1]) {
+                let prev = (i + n - 1) % n;
+                edges[prev] = edges[prev].min(edges[i]);
+                verts.remove(i);
+                edges.remove(i);
+                changed = true;
+            } else {
+                i += 1;
+            }
+        }
+    }
+    (verts, edges)
+}
+
+fn block(
+    positions: &[[f64; 2]],
+    verts: &[usize],
+    edges: Vec<EdgeSource>,
+    excavation: Option<usize>,
+) -> Result<Block, CutError> {
+    let vertices: Vec<[f64; 2]> = verts.iter().map(|&v| positions[v]).collect();
+    let o = vertices[0];
+    let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for i in 1..vertices.len() - 1 {
+        let (p, q) = (vertices[i], vertices[i + 1]);
+        let (px, py, qx, qy) = (p[0] - o[0], p[1] - o[1], q[0] - o[0], q[1] - o[1]);
+        let c = px * qy - py * qx;
+        a2 += c;
+        cx += (px + qx) * c;
+        cy += (py + qy) * c;
+    }
+    let area = a2 / 2.0;
+    let centroid = [o[0] + cx / (3.0 * a2), o[1] + cy / (3.0 * a2)];
+    let pts: Vec<Vec2> = vertices.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+    if let Err(defect) = check_simple_polygon(&pts) {
+        return Err(CutError::Degenerate {
+            at: centroid,
+            message: format!(
+                "a block is not a simple polygon after merging vertices ({defect:?}); try another min_edge"
+            ),
+        });
+    }
+    if !(area > 0.0) {
+        return Err(CutError::Degenerate { at: o, message: "a block has no positive area".into() });
+    }
+    Ok(Block { vertices, edges, area, centroid, excavation })
+}
