@@ -1,7 +1,7 @@
-//! The blocks that DC (ntdda's `blocks.c`, dc04–dc08) makes from joint lines: the planar
-//! arrangement of the lines (every crossing a vertex), less the pieces that close no block —
-//! dangling ends (dc05–dc06 "delete dangling") and bridges that have the same block on both
-//! sides — with the bounded faces as blocks and the outer loop as the outline.
+//! The blocks that DC (ntdda's `blocks.c`, dc04–dc08) makes from joint lines (math note
+//! §12.6): the planar arrangement of the lines (every crossing a vertex), less the pieces that
+//! close no block — dangling ends (dc05–dc06 "delete dangling") and bridges that have the same
+//! block on both sides — with the bounded faces as blocks and the outer loop as the outline.
 //!
 //! Vertices closer than `1e-9` of the extent are one vertex; DC's coarser merge radius
 //! (1.25 e00 w0) is pbdda's cutter's business (`[domain] min_edge`).
