@@ -32,6 +32,7 @@ pub mod geometry;
 pub mod jacobian;
 pub mod mesh;
 pub mod model;
+pub mod ntdda;
 pub mod output;
 pub mod rockmass;
 pub mod scene;

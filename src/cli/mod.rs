@@ -28,6 +28,7 @@ macro_rules! errln {
 
 mod check;
 mod cut;
+mod import;
 mod progress;
 mod run;
 mod sweep;
@@ -150,6 +151,17 @@ pub enum Command {
         #[arg(long, default_value_t = 900)]
         height: u32,
     },
+    /// Write a pbdda rock-mass scene from ntdda's geometry and analysis files (text or DDAML);
+    /// what has no meaning in pbdda is listed on stderr and atop the scene.
+    ImportNtdda {
+        /// ntdda geometry file (.geo, text or DDAML).
+        geometry: PathBuf,
+        /// ntdda analysis file (.ana, text or DDAML).
+        analysis: Option<PathBuf>,
+        /// The scene file to write.
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 /// Runs the parsed command line.
@@ -180,6 +192,9 @@ pub fn main(cli: Cli) -> Result<()> {
             let path = crate::output::render::render_step(&dir, step, &out, (width, height))?;
             outln!("{}", path.display());
             Ok(())
+        }
+        Command::ImportNtdda { geometry, analysis, out } => {
+            import::command(&geometry, analysis.as_deref(), &out)
         }
     }
 }
