@@ -81,14 +81,15 @@ pub(crate) fn build(
     let mut reports = Vec::new();
     for _ in 0..SEAM_ROUNDS {
         let regions = regions(spec, checked, &cdt)?;
-        let holed: Vec<&Vec<Vec<Edge>>> =
-            regions.iter().filter(|r| r.loops.len() > 1).map(|r| &r.loops).collect();
-        if holed.is_empty() {
-            return finish(&cdt, checked, &inputs, &corners, regions, reports);
-        }
         let mut seams = Vec::new();
-        for loops in holed {
-            seams.extend(seams_for(&cdt, loops));
+        for r in &regions {
+            let holes = holes_of(&cdt, &r.loops);
+            if !holes.is_empty() {
+                seams.extend(seams_for(&cdt, &r.loops, &holes, checked.reach));
+            }
+        }
+        if seams.is_empty() {
+            return finish(&cdt, checked, &inputs, &corners, regions, reports);
         }
         for (a, b) in seams {
             let (pa, pb) = (pos(&cdt, a), b);
@@ -241,19 +242,61 @@ fn walk(
     Ok(loops.into_iter().map(|l| l.1).collect())
 }
 
+/// The holes of a region: its inner loops, and the clockwise parts of its outer loop where that
+/// touches itself (a hole that meets the outline at one vertex), less the vertices it touches
+/// itself at.
+fn holes_of(cdt: &Cdt, loops: &[Vec<Edge>]) -> Vec<Vec<FixedVertexHandle>> {
+    let mut holes: Vec<Vec<FixedVertexHandle>> =
+        loops[1..].iter().map(|l| l.iter().map(|e| e.0).collect()).collect();
+    let outer = &loops[0];
+    let mut count: std::collections::HashMap<FixedVertexHandle, usize> = std::collections::HashMap::new();
+    for e in outer {
+        *count.entry(e.0).or_insert(0) += 1;
+    }
+    if count.values().all(|&c| c == 1) {
+        return holes;
+    }
+    let mut stack: Vec<FixedVertexHandle> = Vec::new();
+    let mut parts: Vec<Vec<FixedVertexHandle>> = Vec::new();
+    for e in outer {
+        if let Some(k) = stack.iter().position(|&v| v == e.0) {
+            parts.push(stack.drain(k..).collect());
+        }
+        stack.push(e.0);
+    }
+    parts.push(stack);
+    for part in parts {
+        let area2: f64 = (0..part.len())
+            .map(|i| {
+                let (p, q) = (pos(cdt, part[i]), pos(cdt, part[(i + 1) % part.len()]));
+                p[0] * q[1] - p[1] * q[0]
+            })
+            .sum();
+        if area2 < 0.0 {
+            holes.push(part.into_iter().filter(|v| count[v] == 1).collect());
+        }
+    }
+    holes
+}
+
 /// Two seams for each hole of a region: from the hole's rightmost vertex towards +x and from its
-/// leftmost towards -x, each to the first boundary edge of the region they meet.
-fn seams_for(cdt: &Cdt, loops: &[Vec<Edge>]) -> Vec<(FixedVertexHandle, [f64; 2])> {
+/// leftmost towards -x, each to `reach` past the first boundary edge of the region they meet.
+fn seams_for(
+    cdt: &Cdt,
+    loops: &[Vec<Edge>],
+    holes: &[Vec<FixedVertexHandle>],
+    reach: f64,
+) -> Vec<(FixedVertexHandle, [f64; 2])> {
     let segs: Vec<([f64; 2], [f64; 2], FixedVertexHandle, FixedVertexHandle)> =
         loops.iter().flatten().map(|&(a, b)| (pos(cdt, a), pos(cdt, b), a, b)).collect();
     let mut out = Vec::new();
-    for hole in &loops[1..] {
+    for hole in holes {
         for dir in [1.0, -1.0] {
             let key = |v: FixedVertexHandle| {
                 let p = pos(cdt, v);
                 (dir * p[0], dir * p[1])
             };
-            let Some(h) = hole.iter().map(|e| e.0).max_by(|&a, &b| {
+            let Some(h) = hole.iter().copied().max_by(|&a, &b| {
                 let (ka, kb) = (key(a), key(b));
                 ka.0.total_cmp(&kb.0).then(ka.1.total_cmp(&kb.1))
             }) else {
@@ -272,8 +315,9 @@ fn seams_for(cdt: &Cdt, loops: &[Vec<Edge>]) -> Vec<(FixedVertexHandle, [f64; 2]
                     hit = Some((d, [x, p[1]]));
                 }
             }
+            // a little past the boundary, so that the seam crosses it (and is split there)
             if let Some((_, q)) = hit {
-                out.push((h, q));
+                out.push((h, [q[0] + dir * reach, q[1]]));
             }
         }
     }

@@ -10,7 +10,7 @@
 //!
 //! ```
 //! use pbdda::rockmass::{Bridges, CutSpec, JointSet, cut};
-//! let set = |angle: f64| JointSet { angle, spacing: 1.0, origin: [0.5, 0.5], ..JointSet::default() };
+//! let set = |angle: f64| JointSet { angle, spacing: 1.0, ..JointSet::default() };
 //! let spec = CutSpec {
 //!     domain: vec![[0.0, 0.0], [4.0, 0.0], [4.0, 3.0], [0.0, 3.0]],
 //!     joint_sets: vec![set(0.0), set(90.0)],
@@ -174,7 +174,8 @@ impl fmt::Display for EdgeSource {
 /// One cut block.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Block {
-    /// Counter-clockwise, simple, no two consecutive edges collinear.
+    /// Counter-clockwise, simple; two consecutive edges are collinear only where the source
+    /// changes along a straight line (a trace piece and its cemented bridge, math note §12.3).
     pub vertices: Vec<[f64; 2]>,
     /// `edges[i]` joins `vertices[i]` to `vertices[(i + 1) % n]`.
     pub edges: Vec<EdgeSource>,
@@ -263,7 +264,16 @@ pub enum CutError {
 pub fn cut(spec: &CutSpec) -> Result<Cut, CutError> {
     let checked = estimate::check(spec)?;
     let segments = traces::segments(spec, &checked)?;
-    let arrangement = arrange::build(spec, &checked, &segments)?;
+    // spade asserts on some near-degenerate crossings (`previous_region` in its constraint
+    // splitting); such a cut is an error naming where, not a panic
+    let built =
+        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| arrange::build(spec, &checked, &segments)));
+    let arrangement = built.map_err(|_| CutError::Degenerate {
+        at: checked.domain[0],
+        message:
+            "the triangulation failed on nearly coincident crossings; move a set's origin or change min_edge"
+                .into(),
+    })??;
     polish::finish(spec, &checked, arrangement)
 }
 

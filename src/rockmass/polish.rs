@@ -69,8 +69,33 @@ impl<'a> SegmentGrid<'a> {
     /// The source of the cut edge `a`-`b`: of the input segments it lies on (both ends within
     /// 1e-7 of the domain's size of the segment's line, its midpoint within the segment), the
     /// first in [`EdgeSource`]'s order.
+    ///
+    /// An edge on none of them (spade may route a split constraint through an existing vertex
+    /// close to the crossing, math note §12.3) takes the source of the segment nearest to its
+    /// midpoint.
     pub(crate) fn source(&self, a: [f64; 2], b: [f64; 2]) -> Option<EdgeSource> {
         let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        self.on_source(a, b, m).or_else(|| self.nearest(m))
+    }
+
+    fn nearest(&self, m: [f64; 2]) -> Option<EdgeSource> {
+        let distance = |s: &Segment| {
+            let d = [s.b[0] - s.a[0], s.b[1] - s.a[1]];
+            let dd = d[0] * d[0] + d[1] * d[1];
+            let t = if dd > 0.0 {
+                (((m[0] - s.a[0]) * d[0] + (m[1] - s.a[1]) * d[1]) / dd).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (m[0] - s.a[0] - t * d[0]).hypot(m[1] - s.a[1] - t * d[1])
+        };
+        self.inputs
+            .iter()
+            .min_by(|p, q| distance(p).total_cmp(&distance(q)).then(p.source.cmp(&q.source)))
+            .map(|s| s.source)
+    }
+
+    fn on_source(&self, a: [f64; 2], b: [f64; 2], m: [f64; 2]) -> Option<EdgeSource> {
         let (i, j) = self.ij(m);
         let mut best: Option<EdgeSource> = None;
         for jj in j.saturating_sub(1)..=(j + 1).min(self.ny - 1) {
@@ -236,8 +261,10 @@ pub(crate) fn area2(positions: &[[f64; 2]], verts: &[usize]) -> f64 {
     s
 }
 
-/// Removes vertices where the outline runs straight on (or folds straight back), to 1e-10 in
-/// the sine of the turn; the joined edge keeps the first of the two sources.
+/// Removes vertices where the outline runs straight on between edges of one source, or folds
+/// straight back, to 1e-10 in the sine of the turn; a folded edge keeps the first of the two
+/// sources. A straight-through vertex between two sources (a trace piece and its cemented
+/// bridge) stays, so that each edge has one source.
 fn straighten(
     positions: &[[f64; 2]],
     mut verts: Vec<usize>,
@@ -254,8 +281,10 @@ fn straighten(
             let u = [b[0] - a[0], b[1] - a[1]];
             let w = [c[0] - b[0], c[1] - b[1]];
             let cross = u[0] * w[1] - u[1] * w[0];
-            if cross.abs() <= 1e-10 * u[0].hypot(u[1]) * w[0].hypot(w[1]) {
-                let prev = (i + n - 1) % n;
+            let prev = (i + n - 1) % n;
+            let straight = cross.abs() <= 1e-10 * u[0].hypot(u[1]) * w[0].hypot(w[1]);
+            let folds = u[0] * w[0] + u[1] * w[1] < 0.0;
+            if straight && (folds || edges[prev] == edges[i]) {
                 edges[prev] = edges[prev].min(edges[i]);
                 verts.remove(i);
                 edges.remove(i);

@@ -67,12 +67,26 @@ fn on_line(
 ) -> Vec<([f64; 2], [f64; 2], f64)> {
     let d = [q[0] - p[0], q[1] - p[1]];
     let length = d[0].hypot(d[1]);
-    if length == 0.0 {
+    if length == 0.0 || pattern.is_empty() {
         return Vec::new();
     }
-    let inside = clip::clip(p, q, &checked.domain);
+    // p and q themselves at s = 0 and 1: a polyline's segments share their points exactly
+    let at = |s: f64| {
+        if s == 0.0 {
+            p
+        } else if s == 1.0 {
+            q
+        } else {
+            [p[0] + s * d[0], p[1] + s * d[1]]
+        }
+    };
+    let lo = pattern.iter().map(|x| x[0]).fold(f64::INFINITY, f64::min);
+    let hi = pattern.iter().map(|x| x[1]).fold(f64::NEG_INFINITY, f64::max);
+    let inside: Vec<[f64; 2]> = clip::clip(at(lo), at(hi), &checked.domain)
+        .into_iter()
+        .map(|w| [lo + w[0] * (hi - lo), lo + w[1] * (hi - lo)])
+        .collect();
     let e = checked.reach / length;
-    let at = |s: f64| [p[0] + s * d[0], p[1] + s * d[1]];
     let mut out = Vec::new();
     for (k, piece) in pattern.iter().enumerate() {
         let joined_before = k > 0 && pattern[k - 1][1] == piece[0];
