@@ -202,3 +202,32 @@ fn contact_records_only_on_written_steps() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// `pbdda cut` writes the expanded scene (which `check` accepts, with the same block count) and
+/// the picture; it prints the block count and the smallest block. The tunnel example's count
+/// is the model's number of bodies, which the expanded scene must keep.
+#[test]
+fn cut_writes_an_expanded_scene_and_a_picture() {
+    let dir = scratch("cut");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (out, png) = (dir.join("tunnel.toml"), dir.join("tunnel.png"));
+    let o = pbdda(&[
+        "cut",
+        &example("tunnel_bolted.toml"),
+        "--out",
+        out.to_str().unwrap(),
+        "--png",
+        png.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let printed = String::from_utf8_lossy(&o.stdout).to_string();
+    let model = pbdda::scene::load(Path::new(&example("tunnel_bolted.toml"))).unwrap();
+    assert!(printed.contains(&format!("blocks: {}\n", model.bodies.len())), "{printed}");
+    assert!(printed.contains("smallest block: blk-"), "{printed}");
+    let expanded = pbdda::scene::load(&out).unwrap();
+    assert_eq!(expanded.bodies.len(), model.bodies.len());
+    assert_eq!(expanded.connectors.len(), model.connectors.len());
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    let o = pbdda(&["check", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

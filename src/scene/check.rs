@@ -397,6 +397,10 @@ fn bodies<'a>(
     interfaces: &Names,
     dir: &std::path::Path,
 ) -> Check<(Vec<BodySpec>, Names<'a>)> {
+    if raw.get_ref().is_empty() && raw.span().is_empty() {
+        let message = "missing key `body`: a scene needs at least one [[body]] or a [domain]";
+        return Err(Problem::missing(0..0, "body", message));
+    }
     if raw.get_ref().is_empty() {
         return fail(raw.span(), "a scene needs at least one [[body]]");
     }
