@@ -117,12 +117,20 @@ pub struct Interface {
     pub tensile_strength: f64,
     /// Rolling friction length δ [m] for particle contacts.
     pub rolling: f64,
+    /// Newton's normal coefficient of restitution e in [0, 1] (math note §10.14); 1: elastic.
+    pub restitution: f64,
 }
 
 impl Interface {
     /// The frictionless, cohesionless law used when a scene gives no default interface.
-    pub const SMOOTH: Interface =
-        Interface { materials: None, friction: 0.0, cohesion: 0.0, tensile_strength: 0.0, rolling: 0.0 };
+    pub const SMOOTH: Interface = Interface {
+        materials: None,
+        friction: 0.0,
+        cohesion: 0.0,
+        tensile_strength: 0.0,
+        rolling: 0.0,
+        restitution: 1.0,
+    };
 }
 
 #[derive(Debug, Clone, PartialEq)]

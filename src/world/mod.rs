@@ -41,6 +41,7 @@ mod refine;
 mod rows;
 mod solve;
 mod update;
+mod velocity;
 
 pub use adaptive::Trouble;
 pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
