@@ -1,11 +1,11 @@
 //! The velocity targets of solve 2 (math note §10.14): Newton's coefficient of restitution on
-//! closing contacts, and friction rows that stop their slip.
+//! closing contacts.
 //!
 //! The velocity of a step is v1 = 2 d/dt − v0 (§1.1), d the answer of solve 2. A row r of the
 //! contact Jacobian B measures the rate u = B_r v; a row that solve 2 holds at G_r = 0 ends with
 //! B_r d = −o_r for its gap offset o_r, so that u1 = −2 o_r/dt − u0. The offset
 //! o_r = −(1 − e) u0 dt/2 therefore makes u1 = −e u0: Newton's law with coefficient e on a
-//! closing normal row, and e = 0 (u1 = 0) on a friction row that sticks.
+//! closing normal row.
 
 use super::World;
 use super::detect::Detected;
@@ -18,10 +18,9 @@ impl World {
     /// §10.14), or `None` when every offset is zero (then nothing changes, bit for bit):
     /// - every row of an impacting contact: −(1 − e) u0 dt/2, e its restitution;
     /// - the normal row of a closed contact that is not impacting and approaches faster than
-    ///   the allowance per step: −(1 − e) u0 dt/2;
-    /// - a tangential or rolling row of such a contact whose rate solve 1 stops or reverses
-    ///   (u0 u1 <= 0 with u1 = 2 G_r/dt − u0, G_r its end gap) and whose |u0| dt is above the
-    ///   allowance: −u0 dt/2 (the stick of a stopping slip is an impact with e = 0).
+    ///   the allowance per step: −(1 − e) u0 dt/2.
+    ///
+    /// Friction rows of persistent contacts get none (math note §10.14, "Friction stops").
     pub(super) fn velocity_targets(
         &self,
         found: &Detected,
@@ -53,13 +52,6 @@ impl World {
             }
             if e < 1.0 && u0[r] * h < -noise {
                 target(r, e);
-            }
-            for row in r + 1..c.rows().end {
-                let u = u0[row];
-                let u1 = 2.0 * state.gaps[row] / h - u;
-                if (u * h).abs() > noise && u * u1 <= 0.0 {
-                    target(row, 0.0);
-                }
             }
         }
         any.then_some(offsets)
