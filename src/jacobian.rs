@@ -448,6 +448,23 @@ impl Jacobian {
         };
     }
 
+    /// `out += B v` for a global vector `v`, in push order (the sums of [`Self::push_apply`]).
+    pub fn apply(&self, v: &[f64], out: &mut [f64]) {
+        for piece in self.pieces() {
+            match piece {
+                Piece::Segments(r) => self.segments[r].iter().for_each(|s| out[s.row()] += self.dot(s, v)),
+                Piece::Frames(r) => {
+                    for f in &self.frames[r] {
+                        let starts = [f.a, f.a, f.b, f.b];
+                        for (k, e) in f.entries().iter().enumerate().take(f.segments()) {
+                            out[f.row() + k % 2] += dot_n::<3>(e, &v[starts[k] as usize..]);
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// `out += Bᵀ z` over the rows that `keep` selects.
     /// `out += Bᵀ z` over the rows that `keep` selects, in push order (the frames read as they
     /// are, with their segments' sums).

@@ -188,6 +188,8 @@ pub struct Interface {
     pub tensile_strength: f64,
     /// Rolling friction length δ [m] for particle contacts.
     pub rolling: f64,
+    /// Newton's normal coefficient of restitution e in [0, 1] (math note §10.15); 1: elastic.
+    pub restitution: f64,
 }
 
 impl Interface {
@@ -199,6 +201,7 @@ impl Interface {
         cohesion: 0.0,
         tensile_strength: 0.0,
         rolling: 0.0,
+        restitution: 1.0,
     };
 }
 

@@ -23,6 +23,8 @@ pub struct Law {
     pub bonded: bool,
     /// The other contact of the joint, if both ends exist.
     pub partner: Option<usize>,
+    /// Newton's normal coefficient of restitution e (math note §10.15).
+    pub restitution: f64,
 }
 
 impl Law {
@@ -200,6 +202,7 @@ mod tests {
                 rolling: 0.1,
                 bonded,
                 partner: None,
+                restitution: 1.0,
             };
             let laws = [law];
             let rule = ContactBounds { laws: &laws, share_cohesion: true };

@@ -90,6 +90,11 @@ pub(super) fn non_negative(v: &Spanned<f64>, key: &str) -> Check<f64> {
     real(v, key, "not be negative", |x| x >= 0.0)
 }
 
+/// A fraction in [0, 1] (`restitution`).
+fn unit_interval(v: &Spanned<f64>, key: &str) -> Check<f64> {
+    real(v, key, "be between 0 and 1", |x| (0.0..=1.0).contains(&x))
+}
+
 /// `rule` applied to an optional value.
 pub(super) fn optional<T, O>(
     v: &Option<Spanned<T>>,
@@ -348,6 +353,7 @@ fn interface(r: &raw::Interface, materials: &Names) -> Check<Interface> {
         cohesion: or_default(&r.cohesion, "cohesion", non_negative, 0.0)?,
         tensile_strength: or_default(&r.tensile_strength, "tensile_strength", non_negative, 0.0)?,
         rolling: or_default(&r.rolling, "rolling", non_negative, 0.0)?,
+        restitution: or_default(&r.restitution, "restitution", unit_interval, 1.0)?,
     })
 }
 

@@ -136,6 +136,7 @@ pub(super) struct Interface {
     pub cohesion: Option<Spanned<f64>>,
     pub tensile_strength: Option<Spanned<f64>>,
     pub rolling: Option<Spanned<f64>>,
+    pub restitution: Option<Spanned<f64>>,
 }
 
 /// `[[body]]`: one struct for every shape; `check` rejects keys the shape does not use.

@@ -224,6 +224,7 @@ impl World {
             rolling: if particle { i.rolling } else { 0.0 },
             bonded: intact && memory.is_some_and(|m| m.bonded),
             partner: None,
+            restitution: i.restitution,
         }
     }
 

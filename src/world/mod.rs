@@ -42,6 +42,7 @@ mod rows;
 mod solve;
 mod stages;
 mod update;
+mod velocity;
 
 pub use adaptive::Trouble;
 pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};

@@ -262,7 +262,7 @@ impl World {
             let product = gaps.is_some();
             let state = self.classify(found, &rows, &z1, gaps);
             let dp = self.response(&rows, &z1, None);
-            let dbar = self.geometry_increment(found, &rows, df, &z1, &dp, &state);
+            let dbar = self.geometry_increment(found, &rows, &laws, df, &z1, &dp, &state);
             let motions = self.motions(&found.reach, &dbar);
             let shapes = &mut runner.pipeline.shapes;
             let next = (refinements < MAX_REFINEMENTS)
@@ -278,9 +278,14 @@ impl World {
             }
         };
         let rows2 = runner.rows(|a| self.impact_rows(found, &rows.lin, last.as_ref(), &state, df, a));
-        let (z2, dp2) = if rows2.is_some() || state.velocity {
+        // restitution and friction stops (math note §10.15): offsets of solve 2's gaps
+        let targets = self.velocity_targets(found, rows2.as_ref().unwrap_or(&rows), &laws, &state);
+        let (z2, dp2) = if rows2.is_some() || state.velocity || targets.is_some() {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
-            let q2 = velocity_gaps(brief, &solve2.q, &state);
+            let mut q2 = velocity_gaps(brief, &solve2.q, &state);
+            if let Some(t) = &targets {
+                q2.iter_mut().zip(t).for_each(|(q, t)| *q += t);
+            }
             let mut z2 = z1.clone();
             let again = rows2.is_none() && product;
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
@@ -371,14 +376,16 @@ impl World {
         rate * self.h < -self.allowance
     }
 
-    /// d̄ = d^f + K̃⁻¹ Bᵀ z + K̃⁻¹ B_impᵀ z_imp: the geometry increment with the impacting
-    /// contacts' share doubled (math note §1.3 c) on the bodies it does not drive into others
-    /// (§10.12, [`Self::hold_driven_bodies`]), as a global DOF vector, from the response
-    /// `dp` = K̃⁻¹ Bᵀ z.
+    /// d̄ = d^f + K̃⁻¹ Bᵀ z + K̃⁻¹ B_impᵀ e z_imp: the geometry increment with the impacting
+    /// contacts' share taken 1 + e times (math note §1.3 c, §10.15; e the restitution) on the
+    /// bodies it does not drive into others (§10.12, [`Self::hold_driven_bodies`]), as a global
+    /// DOF vector, from the response `dp` = K̃⁻¹ Bᵀ z.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn geometry_increment(
         &self,
         found: &Detected,
         rows: &Rows,
+        laws: &[Law],
         df: &[f64],
         z: &[f64],
         dp: &[f64],
@@ -386,6 +393,8 @@ impl World {
     ) -> Vec<f64> {
         let mut d: Vec<f64> = dp.iter().zip(df).map(|(x, f)| x + f).collect();
         if state.impacts {
+            let scaled = restituted(found, laws, z, state);
+            let z = scaled.as_deref().unwrap_or(z);
             let mut dimp = self.response(rows, z, Some(&state.impacting_rows));
             self.hold_driven_bodies(found, rows, z, state, &mut dimp);
             d.iter_mut().zip(&dimp).for_each(|(x, y)| *x += y);
@@ -432,6 +441,21 @@ impl World {
         self.flex.solve_in_place(&self.dofs, &mut out);
         out
     }
+}
+
+/// z with the rows of each impacting contact times its restitution e (math note §10.15), or
+/// `None` when every impacting contact is elastic (e = 1: z itself, bit for bit).
+fn restituted(found: &Detected, laws: &[Law], z: &[f64], state: &Classified) -> Option<Vec<f64>> {
+    let impacting = |c: &Brief| state.impacting_rows[c.row()];
+    let elastic = found.brief.iter().zip(laws).all(|(c, l)| l.restitution == 1.0 || !impacting(c));
+    if elastic {
+        return None;
+    }
+    let mut ze = z.to_vec();
+    for (c, l) in found.brief.iter().zip(laws).filter(|(c, _)| impacting(c)) {
+        ze[c.rows()].iter_mut().for_each(|x| *x *= l.restitution);
+    }
+    Some(ze)
 }
 
 /// The gaps of solve 2, the velocity solve (math note §1.3 d): the offset of every contact
