@@ -26,7 +26,7 @@ use toml::de::{DeTable, DeValue, Deserializer};
 
 pub use crate::error::SceneError;
 use crate::model::Model;
-pub use overrides::{Override, load_with, parse_with};
+pub use overrides::{Override, load_with, overridden_text, parse_with};
 
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.
 pub fn load(path: &Path) -> Result<Model, SceneError> {
