@@ -95,3 +95,27 @@ fn wildcard_matching_nothing_and_wrong_type_are_errors() {
     let e = flat(&format!("{e:?}"));
     assert!(e.contains("case 1 (solver.tolerance=abc)") && e.contains("solver.tolerance"), "{e}");
 }
+
+/// A case whose run fails is a row with its error, and the sweep goes on: with one inner
+/// iteration per step, no adaptive halving and unconverged steps not allowed (the scene
+/// format's defaults for the latter), PC cannot solve the heap's first step (its cold start
+/// needs tens of iterations), so the first case fails at step 1; the second runs its 3 steps.
+#[test]
+fn a_failed_case_is_a_row_with_its_error() {
+    let (text, file) = scene("7_1_disk_heap.toml");
+    let base: Vec<Override> = [("time.adaptive", "false"), ("solver.method", "pc"), ("time.steps", "3")]
+        .iter()
+        .map(|(k, v)| Override { key: (*k).into(), value: (*v).into() })
+        .collect();
+    let axes = [axis("solver.max_iterations", &["1", "200000"])];
+    let report = sweep(&text, &file, &base, &axes, &quiet()).unwrap_or_else(|e| panic!("{e:?}"));
+    let error = report.rows[0].result.error.as_deref().expect("case 0 fails");
+    assert!(error.contains("step 1") && error.contains("did not converge"), "{error}");
+    assert_eq!(report.rows[1].run().expect("case 1 runs").steps, 3);
+    let csv = report.csv();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert!(rows[1].starts_with("0,1,,failed,step 1 failed"), "{csv}");
+    assert!(rows[2].starts_with("1,200000,,ok,,3,"), "{csv}");
+    let columns = rows[0].split(',').count();
+    assert_eq!(rows[1].split(',').count(), columns, "a failed row has every column");
+}
