@@ -1,4 +1,4 @@
-//! `pbdda sweep` (src/cli/sweep.rs) on two paper examples, shortened with --set.
+//! `pbdda sweep` (src/cli/sweep/) on two paper examples, shortened with --set.
 //!
 //! §7.5 pendulum, time steps h = 0.16, 0.08, 0.04, 0.02 s to t = 4.8 s (past the first peak
 //! at T/4 = 4.54 s), reference h_ref = 0.005 s. Expected order of the peak-force error: with
@@ -26,7 +26,7 @@
 //! reference's to rounding: the second test asserts below 1e-9 N (forces are ~10 N, and
 //! rounding of a 6-iteration solve is ~1e-15 relative).
 
-use pbdda::cli::{SweepOptions, sweep};
+use pbdda::cli::{Axis, SweepOptions, sweep};
 use pbdda::scene::Override;
 use std::path::Path;
 
@@ -39,27 +39,28 @@ fn set(pairs: &[(&str, &str)]) -> Vec<Override> {
     pairs.iter().map(|(k, v)| Override { key: (*k).into(), value: (*v).into() }).collect()
 }
 
-fn strings(values: &[&str]) -> Vec<String> {
-    values.iter().map(|v| v.to_string()).collect()
+fn axis(key: &str, values: &[&str]) -> Vec<Axis> {
+    vec![Axis { key: key.into(), values: values.iter().map(|v| v.to_string()).collect() }]
 }
 
 #[test]
 fn pendulum_peak_force_converges_at_second_order() {
     let (text, file) = scene("7_5_disk_in_ring.toml");
     let h_ref = 0.005;
-    let options = SweepOptions { reference: Some(h_ref.to_string()), quiet: true };
-    let values = strings(&["0.16", "0.08", "0.04", "0.02"]);
-    let report = sweep(&text, &file, &set(&[("time.end", "4.8")]), "time.step", &values, &options)
+    let options = SweepOptions { reference: Some(h_ref.to_string()), quiet: true, ..Default::default() };
+    let values = axis("time.step", &["0.16", "0.08", "0.04", "0.02"]);
+    let report = sweep(&text, &file, &set(&[("time.end", "4.8")]), &values, &options)
         .unwrap_or_else(|e| panic!("{e:?}"));
     eprintln!("{}", report.table());
     assert_eq!(report.rows.len(), 4);
     // 4.8 / h steps for every step size (4.8 s is a multiple of every h)
-    let steps: Vec<usize> = report.rows.iter().map(|r| r.run.steps).collect();
+    let steps: Vec<usize> = report.rows.iter().map(|r| r.run().expect("a run").steps).collect();
     assert_eq!(steps, vec![30, 60, 120, 240]);
-    assert_eq!(report.reference.steps, 960);
+    let reference = report.reference.as_ref().and_then(|r| r.1.run.as_ref()).expect("the reference run");
+    assert_eq!(reference.steps, 960);
     assert!(report.rows[0].orders.iter().all(Option::is_none), "no order for the first value");
     for pair in report.rows.windows(2) {
-        let (h0, h1) = (pair[0].run.h.unwrap(), pair[1].run.h.unwrap());
+        let (h0, h1) = (pair[0].h.unwrap(), pair[1].h.unwrap());
         let expected = ((h0 * h0 - h_ref * h_ref) / (h1 * h1 - h_ref * h_ref)).ln() / (h0 / h1).ln();
         let observed = pair[1].orders[1].expect("order of the peak-force error");
         assert!(
@@ -72,36 +73,31 @@ fn pendulum_peak_force_converges_at_second_order() {
 #[test]
 fn heap_force_error_falls_with_tolerance_as_iterations_grow() {
     let (text, file) = scene("7_1_disk_heap.toml");
-    let options = SweepOptions { reference: Some("1e-13".into()), quiet: true };
-    let values = strings(&["1e-4", "1e-6", "1e-8", "1e-10"]);
+    let options = SweepOptions { reference: Some("1e-13".into()), quiet: true, ..Default::default() };
+    let values = axis("solver.tolerance", &["1e-4", "1e-6", "1e-8", "1e-10"]);
     let overrides = set(&[("time.steps", "5"), ("solver.method", "pc")]);
-    let report = sweep(&text, &file, &overrides, "solver.tolerance", &values, &options)
-        .unwrap_or_else(|e| panic!("{e:?}"));
+    let report = sweep(&text, &file, &overrides, &values, &options).unwrap_or_else(|e| panic!("{e:?}"));
     eprintln!("{}", report.table());
     for pair in report.rows.windows(2) {
-        assert!(
-            pair[1].final_force_error < pair[0].final_force_error,
-            "error must fall: {} at {} then {} at {}",
-            pair[0].final_force_error,
-            pair[0].run.value,
-            pair[1].final_force_error,
-            pair[1].run.value
-        );
-        assert!(pair[1].run.iterations >= pair[0].run.iterations, "a tighter tolerance costs iterations");
+        let (e0, e1) = (pair[0].final_force_error.expect("error"), pair[1].final_force_error.expect("error"));
+        let (c0, c1) = (pair[0].case.label(), pair[1].case.label());
+        assert!(e1 < e0, "error must fall: {e0} at {c0} then {e1} at {c1}");
+        let (r0, r1) = (pair[0].run().expect("run"), pair[1].run().expect("run"));
+        assert!(r1.iterations >= r0.iterations, "a tighter tolerance costs iterations");
     }
 }
 
 #[test]
 fn heap_forces_are_exact_at_every_tolerance_with_mprgp() {
     let (text, file) = scene("7_1_disk_heap.toml");
-    let options = SweepOptions { reference: Some("1e-13".into()), quiet: true };
-    let values = strings(&["1e-4", "1e-6", "1e-8"]);
+    let options = SweepOptions { reference: Some("1e-13".into()), quiet: true, ..Default::default() };
+    let values = axis("solver.tolerance", &["1e-4", "1e-6", "1e-8"]);
     let overrides = set(&[("time.steps", "5"), ("solver.method", "mprgp")]);
-    let report = sweep(&text, &file, &overrides, "solver.tolerance", &values, &options)
-        .unwrap_or_else(|e| panic!("{e:?}"));
+    let report = sweep(&text, &file, &overrides, &values, &options).unwrap_or_else(|e| panic!("{e:?}"));
     eprintln!("{}", report.table());
     for row in &report.rows {
-        assert!(row.final_force_error < 1e-9, "{} at {}", row.final_force_error, row.run.value);
+        let e = row.final_force_error.expect("an error against the reference");
+        assert!(e < 1e-9, "{e} at {}", row.case.label());
     }
 }
 

@@ -31,12 +31,12 @@ mod cut;
 mod import;
 mod progress;
 mod run;
-mod sweep;
+pub mod sweep;
 pub mod validate;
 
 pub use check::summary;
 pub use progress::{Progress, ProgressMode, RunSummary};
-pub use sweep::{SweepOptions, SweepReport, sweep};
+pub use sweep::{Axis, SweepOptions, SweepReport, sweep};
 
 use crate::scene::Override;
 use clap::{Parser, Subcommand};
@@ -106,23 +106,9 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         markdown: Option<PathBuf>,
     },
-    /// Run a scene for several values of one key; tabulate cost and change of the results.
-    Sweep {
-        /// Scene file (TOML).
-        scene: PathBuf,
-        /// The swept key with comma-separated values (KEY=V1,V2,...); other --set apply to all runs.
-        #[arg(long = "set", value_name = "KEY=VALUE", required = true)]
-        set: Vec<Override>,
-        /// Value of the swept key for the reference run (default: the smallest value).
-        #[arg(long)]
-        reference: Option<String>,
-        /// Directory for sweep.csv and sweep.png (default: the current directory).
-        #[arg(long, default_value = ".")]
-        out: PathBuf,
-        /// No progress lines.
-        #[arg(long, short)]
-        quiet: bool,
-    },
+    /// Run a scene for a grid of values of one or more keys; tabulate cost, results, change
+    /// against a reference, observed orders and Richardson extrapolation (sweep.csv, sweep.png).
+    Sweep(sweep::SweepArgs),
     /// Write PNG and SVG figures from a results folder (finished or still running): monitor
     /// paths and displacements, contact and connector forces, kinetic energy, solver effort.
     Plot {
@@ -174,10 +160,7 @@ pub fn main(cli: Cli) -> Result<()> {
         Command::Check { scene, set } => check::check(&scene, &set),
         Command::Cut { scene, out, png } => cut::cut(&scene, &out, png.as_deref()),
         Command::Validate { markdown } => validate::command(markdown.as_deref()),
-        Command::Sweep { scene, set, reference, out, quiet } => {
-            let options = SweepOptions { reference, quiet };
-            sweep::command(&scene, &set, &out, &options)
-        }
+        Command::Sweep(args) => sweep::command(&args),
         Command::Plot { dir, out, bodies } => {
             let out = out.unwrap_or_else(|| dir.join("plots"));
             let opts = crate::output::plot::PlotOptions { bodies, ..Default::default() };

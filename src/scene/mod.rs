@@ -32,7 +32,7 @@ use toml::de::{DeTable, DeValue, Deserializer};
 pub use crate::error::SceneError;
 use crate::model::{Excavation, Model};
 pub use expanded::{Expanded, expanded};
-pub use overrides::{Override, load_with, parse_with};
+pub use overrides::{Override, load_with, overridden_text, parse_with};
 pub use rockmass::Expansion;
 
 /// Reads and validates the scene file at `path`. Errors name the file as `path` displays.

@@ -6,7 +6,10 @@
 //! - `time.step`, `solver.tolerance`, `output.every`, `physics.gravity` (tables);
 //! - `body.d1.radius`, `material.rock.density`, `monitor.O.point`: an entry of an array of
 //!   tables by its `name`; `body[3].radius`, `interface[0].friction`: by its 0-based index (as
-//!   error messages name it); `physics.gravity[1]`: one element of an array value.
+//!   error messages name it); `physics.gravity[1]`: one element of an array value;
+//! - `connector[*].strength`, `body[*].material`: the wildcard `[*]` stands for every entry of
+//!   the array (the override is applied to each, in order); a wildcard over an array the scene
+//!   does not have, or has empty, is an error.
 //!
 //! A value is a TOML literal (`1e-3`, `10`, `true`, `"text"`, `[0.0, -9.81]`); anything that
 //! is not a TOML literal is taken as a string (`body.d1.model=deformable`). A key that is
@@ -108,7 +111,13 @@ fn read_with(source: &str, file: &str, overrides: &[Override], stages: bool) -> 
     }
     let mut text = source.to_owned();
     let mut edits: Vec<Edit> = Vec::new();
+    let mut expanded = Vec::new();
     for ov in overrides {
+        expanded.extend(expand(&text, ov).map_err(|(span, key, message)| {
+            SceneError::at(file, &text, span, key, format!("--set {ov}: {message}"))
+        })?);
+    }
+    for ov in &expanded {
         let edit = apply(&text, ov).map_err(|(span, key, message)| {
             SceneError::at(file, &text, span, key, format!("--set {ov}: {message}"))
         })?;
@@ -116,6 +125,66 @@ fn read_with(source: &str, file: &str, overrides: &[Override], stages: bool) -> 
         edits.push(edit);
     }
     super::read(&text, file, stages).map_err(|e| blame(e, &text, file, &edits))
+}
+
+/// The scene text `source` with `overrides` applied (a wildcard expanded), as the reader of
+/// [`parse_with`] sees it; an override that cannot be placed is an error naming it.
+pub fn overridden_text(source: &str, file: &str, overrides: &[Override]) -> Result<String, SceneError> {
+    let mut text = source.to_owned();
+    for ov in overrides {
+        let fail = |t: &str, (span, key, message): Misplaced| {
+            SceneError::at(file, t, span, key, format!("--set {ov}: {message}"))
+        };
+        for one in expand(&text, ov).map_err(|m| fail(&text, m))? {
+            text = apply(&text, &one).map_err(|m| fail(&text, m))?.text;
+        }
+    }
+    Ok(text)
+}
+
+/// The overrides that `ov` stands for: itself, or, when its key holds the wildcard `[*]`, one
+/// per entry of the array before the first `[*]` (recursively for later wildcards).
+fn expand(text: &str, ov: &Override) -> Result<Vec<Override>, Misplaced> {
+    let Some((prefix, rest)) = ov.key.split_once("[*]") else {
+        return Ok(vec![ov.clone()]);
+    };
+    let root = DeTable::parse(text).map_err(|e| {
+        (e.span().unwrap_or(0..0), String::new(), format!("the scene is not valid TOML: {}", e.message()))
+    })?;
+    let path = steps(prefix).map_err(|m| (0..0, ov.key.clone(), m))?;
+    let nothing = || {
+        (0..0, ov.key.clone(), format!("`{prefix}[*]` matches nothing: the scene has no `{prefix}` entries"))
+    };
+    let mut value: Option<&toml::Spanned<DeValue>> = None;
+    for step in &path {
+        let next = match (value.map(|v| v.get_ref()), step) {
+            (None, Step::Key(k)) => root.get_ref().get(*k),
+            (Some(DeValue::Table(t)), Step::Key(k)) => t.get(*k),
+            (Some(DeValue::Array(items)), Step::Index(i)) => items.get(*i),
+            (Some(DeValue::Array(items)), Step::Key(name)) => items
+                .iter()
+                .find(|v| v.get_ref().get("name").and_then(|n| n.get_ref().as_str()) == Some(*name)),
+            _ => None,
+        };
+        value = Some(next.ok_or_else(nothing)?);
+    }
+    let n = match value.map(|v| v.get_ref()) {
+        Some(DeValue::Array(items)) if !items.is_empty() => items.len(),
+        Some(DeValue::Array(_)) | None => return Err(nothing()),
+        Some(other) => {
+            return Err((
+                0..0,
+                ov.key.clone(),
+                format!("`{prefix}` is a {}, not an array", other.type_str()),
+            ));
+        }
+    };
+    let mut out = Vec::new();
+    for i in 0..n {
+        let one = Override { key: format!("{prefix}[{i}]{rest}"), value: ov.value.clone() };
+        out.extend(expand(text, &one)?);
+    }
+    Ok(out)
 }
 
 /// The text after one override, and where it went.
@@ -394,6 +463,16 @@ mod tests {
         assert_eq!(set(g, "physics.plane", "strain"), g.replace("0]", "0]\nplane = \"strain\""));
         assert_eq!(set(s, "body.c.r", "1"), "no entry of `body` is named `c`");
         let inline = "time = { step = 1 }\n";
+        let star = |key: &str| {
+            let ov = Override { key: key.into(), value: "5".into() };
+            expand(s, &ov).map(|v| v.into_iter().map(|o| o.key).collect::<Vec<_>>()).map_err(|e| e.2)
+        };
+        assert_eq!(star("body[*].r"), Ok(vec!["body[0].r".to_owned(), "body[1].r".to_owned()]));
+        assert_eq!(
+            star("connector[*].strength"),
+            Err("`connector[*]` matches nothing: the scene has no `connector` entries".to_owned())
+        );
+        assert_eq!(star("time[*].step"), Err("`time` is a table, not an array".to_owned()));
         assert_eq!(set(inline, "time.steps", "4"), "time = { step = 1, steps = 4 }\n");
     }
 }

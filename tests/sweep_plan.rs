@@ -1,0 +1,132 @@
+//! `pbdda sweep --plan / --run-plan --shard / --collect` and `--study` through the binary
+//! (src/cli/sweep/plan.rs): the sharded sweep's sweep.csv equals the sequential one byte for
+//! byte except the wall-time column (the cases are deterministic and their results are stored
+//! with round-trip formatting); bad input is an error naming what is wrong.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(name).display().to_string()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pbdda-sweep-plan-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn pbdda(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_pbdda")).args(args).output().expect("the binary runs")
+}
+
+fn ok(args: &[&str]) -> String {
+    let o = pbdda(args);
+    assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn fails(args: &[&str]) -> String {
+    let o = pbdda(args);
+    assert!(!o.status.success(), "{args:?} should fail");
+    // one line: miette wraps long messages and draws a margin
+    String::from_utf8_lossy(&o.stderr).replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// sweep.csv without its wall_seconds column.
+fn without_wall(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let head: Vec<&str> = text.lines().next().expect("header").split(',').collect();
+    let wall = head.iter().position(|c| *c == "wall_seconds").expect("a wall_seconds column");
+    text.lines()
+        .map(|l| {
+            l.split(',').enumerate().filter(|(i, _)| *i != wall).map(|(_, c)| c).collect::<Vec<_>>().join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+const SWEEP: [&str; 5] = ["--set", "connector[*].strength=1e5,2e5,5e5", "--set", "time.steps=60", "-q"];
+
+/// Three cases of the bolted slope over two shards (cases 0 and 2, then case 1) equal the
+/// sequential sweep; a shard whose result was lost (as if killed before its rename) runs
+/// that case alone again and the collection is unchanged.
+#[test]
+fn two_shards_equal_the_sequential_sweep() {
+    let dir = tmp("shards");
+    let scene = example("bolted_slope.toml");
+    let (seq, plan) = (dir.join("seq"), dir.join("plan"));
+    let mut args = vec!["sweep", &scene];
+    args.extend(SWEEP);
+    ok(&[&args[..], &["--out", seq.to_str().unwrap()]].concat());
+    ok(&[&args[..], &["--plan", plan.to_str().unwrap()]].concat());
+    assert_eq!(std::fs::read_dir(plan.join("cases")).expect("cases").count(), 3);
+    let p = plan.to_str().unwrap();
+    for shard in ["0/2", "1/2"] {
+        ok(&["sweep", "--run-plan", p, "--shard", shard, "-q"]);
+    }
+    ok(&["sweep", "--collect", p]);
+    let expected = without_wall(&seq.join("sweep.csv"));
+    assert_eq!(expected.lines().count(), 4, "{expected}");
+    assert_eq!(without_wall(&plan.join("sweep.csv")), expected);
+    std::fs::remove_file(plan.join("results").join("case-0002.toml")).expect("a result");
+    let log = ok(&["sweep", "--run-plan", p, "--shard", "0/2"]);
+    assert!(log.contains("ran 1 cases, skipped 1 finished"), "{log}");
+    ok(&["sweep", "--collect", p, "--out", dir.join("again").to_str().unwrap()]);
+    assert_eq!(without_wall(&dir.join("again").join("sweep.csv")), expected);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A study file gives the same sweep as the command line.
+#[test]
+fn study_file_equals_the_command_line() {
+    let dir = tmp("study");
+    let study = dir.join("sweep.toml");
+    let scene = example("bolted_slope.toml");
+    let text = format!(
+        "scene = {scene:?}\nout = \"from-study\"\nset = [\"time.steps=60\"]\n\n\
+         [[sweep]]\nkey = \"connector[*].strength\"\nvalues = [1e5, 2e5, 5e5]\n"
+    );
+    std::fs::write(&study, text).expect("study file");
+    ok(&["sweep", "--study", study.to_str().unwrap(), "-q"]);
+    let cli = dir.join("cli");
+    let mut args = vec!["sweep", &scene];
+    args.extend(SWEEP);
+    ok(&[&args[..], &["--out", cli.to_str().unwrap()]].concat());
+    // the values column holds the TOML float 100000.0 where the command line has 1e5
+    let from_study = without_wall(&dir.join("from-study").join("sweep.csv"));
+    let from_cli = without_wall(&cli.join("sweep.csv"))
+        .replace(",1e5,", ",100000.0,")
+        .replace(",2e5,", ",200000.0,")
+        .replace(",5e5,", ",500000.0,");
+    assert_eq!(from_study, from_cli);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad input: each error names what is wrong.
+#[test]
+fn bad_plans_and_grids_are_errors() {
+    let dir = tmp("bad");
+    let scene = dir.join("slope.toml");
+    std::fs::copy(example("bolted_slope.toml"), &scene).expect("copy");
+    let (s, plan) = (scene.to_str().unwrap(), dir.join("plan"));
+    let p = plan.to_str().unwrap();
+    ok(&["sweep", s, "--set", "connector[*].strength=1e5,2e5", "--set", "time.steps=5", "--plan", p]);
+    let e = fails(&["sweep", "--run-plan", p, "--shard", "2/2"]);
+    assert!(e.contains("shard index 2 is out of range for 2 shards (0 to 1)"), "{e}");
+    let e = fails(&["sweep", "--collect", p]);
+    assert!(e.contains("cases 0, 1 have no result yet"), "{e}");
+    std::fs::write(&scene, std::fs::read_to_string(&scene).unwrap() + "# edited\n").expect("edit");
+    let e = fails(&["sweep", "--run-plan", p, "--shard", "0/1"]);
+    assert!(e.contains("the plan was made from another scene"), "{e}");
+    let e = fails(&["sweep", s, "--set", "time.steps=5"]);
+    assert!(e.contains("empty grid"), "{e}");
+    let e = fails(&["sweep", s, "--set", "time.steps=5,x"]);
+    assert!(e.contains("case 1 (time.steps=x)") && e.contains("time.steps"), "{e}");
+    let e = fails(&["sweep", s, "--set", "time.steps=5,6", "--set", "time.step=1e-3,2e-3,3e-3", "--zip"]);
+    assert!(e.contains("`time.steps` has 2 values and `time.step` has 3"), "{e}");
+    let e = fails(&["sweep", s, "--set", "material[*].density=1,2", "--set", "region[*].x=1,2"]);
+    assert!(e.contains("`region[*]` matches nothing"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
