@@ -188,7 +188,8 @@ impl Step {
         let ours: Vec<f64> = self.points.iter().flat_map(|p| [p.x, p.y, 0.0]).collect();
         assert_eq!(points, ours, "vtkio points");
         let (connectivity, offsets) = piece.cells.cell_verts.into_xml();
-        let ends: Vec<usize> = self.cells.iter().scan(0, |n, c| Some(*n + c.len()).inspect(|e| *n = *e)).collect();
+        let ends: Vec<usize> =
+            self.cells.iter().scan(0, |n, c| Some(*n + c.len()).inspect(|e| *n = *e)).collect();
         assert_eq!(offsets.iter().map(|&o| o as usize).collect::<Vec<_>>(), ends, "vtkio offsets");
         let ids: Vec<usize> = self.cells.iter().flatten().copied().collect();
         assert_eq!(connectivity.iter().map(|&i| i as usize).collect::<Vec<_>>(), ids, "vtkio connectivity");

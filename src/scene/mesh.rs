@@ -19,7 +19,8 @@ use crate::model::{BodyModel, Material, MeshShape, Shape};
 /// resolves the `fixed_nodes` groups.
 pub(super) fn shape(b: &raw::Body, header: &Range<usize>, dir: &Path) -> Check<Shape> {
     if let Some(mesh) = &b.generated_mesh {
-        let shape = crate::model::MeshShape { mesh: mesh.clone(), fixed_nodes: Vec::new(), rollers: Vec::new() };
+        let shape =
+            crate::model::MeshShape { mesh: mesh.clone(), fixed_nodes: Vec::new(), rollers: Vec::new() };
         return Ok(Shape::Mesh(Box::new(shape)));
     }
     let file = need(b, header, &b.file, "file")?;

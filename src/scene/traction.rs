@@ -10,9 +10,9 @@ use toml::Spanned;
 use super::Problem;
 use super::check::{Check, Names, fail, finite, history, optional, resolve, vec2};
 use super::raw;
+use crate::geometry::Vec2;
 use crate::mesh::loops::boundary_loops;
 use crate::model::{BodySpec, Shape};
-use crate::geometry::Vec2;
 use crate::traction::{Piece, Traction, TractionLaw, boundary_part, domain_tractions};
 
 /// All tractions, in file order; `body = "domain"` (with a `[domain]`, whose `outline` is given)

@@ -78,7 +78,10 @@ impl World {
         let scale = self.v0_scale();
         let norm = |v: &[f64]| (v[0] * v[0] + v[1] * v[1]).sqrt();
         let speed = |b: &crate::body::Body| match &b.mesh {
-            Some(fe) => fe.velocity.chunks(2).map(norm).fold(0.0, f64::max),
+            // per node: a roller's node has one DOF, a fixed node none
+            Some(fe) => {
+                (0..fe.nodes.len()).map(|n| fe.node_value(&fe.velocity, n).norm()).fold(0.0, f64::max)
+            }
             // translation, spin and strain rates times the reach
             None => {
                 let v = b.velocity.as_slice();
