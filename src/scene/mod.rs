@@ -13,6 +13,7 @@ mod bolts;
 mod check;
 mod connectors;
 mod expanded;
+mod interfaces;
 mod limits;
 mod mesh;
 mod overlap;
