@@ -2,16 +2,13 @@
 //! indexing one XML UnstructuredGrid `step_NNNNNN.vtu` per written step (the steps the CSVs
 //! write: every N-th and the last).
 //!
-//! Written by hand as VTK's XML format with its data appended (`<AppendedData
-//! encoding="base64">`, UInt64 block headers, little-endian, each block's header and values
-//! encoded together, as VTK, meshio and vtkio all read it; meshio and vtkio read no raw appended
-//! data), point ids and offsets as Int32 while they fit, else Int64 (VTK's id type is signed,
-//! and meshio casts ids to a signed type), streamed from the grid's arrays through a buffered
-//! writer; the grid's storage is kept from step to step. `benches/output.rs` measures it.
-//! `scripts/check-vtu.py` reads the files with VTK's own reader and with meshio (`.ci/run` runs
-//! it on every example). The `.pvd` collection is a few lines of XML, written to a temporary
-//! file renamed over the old one after every step, so it is always a valid index of the steps
-//! on disk.
+//! Written by hand as VTK's XML format with its data appended in base64 (UInt64 block headers
+//! encoded with their values, little-endian: what VTK, meshio and vtkio all read; the last two
+//! read no raw appended data), ids and offsets Int32 while they fit, else Int64 (signed, as VTK
+//! and meshio take them), streamed through a buffered writer; the grid's storage is kept from step
+//! to step (`benches/output.rs`). `scripts/check-vtu.py` reads the files with VTK and meshio
+//! (`.ci/run`, every example). `scene.pvd` is rewritten through a renamed temporary file after
+//! every step, so it always indexes the steps on disk.
 //!
 //! Cells of one step, in this order:
 //! - one cell per body: a disk is a 64-gon (`VTK_POLYGON`, display only), a ring a keyhole
