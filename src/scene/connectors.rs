@@ -147,18 +147,7 @@ fn reject_foreign_keys(c: &raw::Connector, kind: Kind) -> Check<()> {
         Kind::Bolt => &["young", "area", "pretension", "strength", "yield_force", "ultimate_strain"],
         Kind::Beam => &["young", "area", "inertia", "shear_modulus", "shear_factor", "strength"],
     };
-    let given = [
-        ("stiffness", &c.stiffness),
-        ("young", &c.young),
-        ("area", &c.area),
-        ("inertia", &c.inertia),
-        ("shear_modulus", &c.shear_modulus),
-        ("shear_factor", &c.shear_factor),
-        ("pretension", &c.pretension),
-        ("strength", &c.strength),
-        ("yield_force", &c.yield_force),
-        ("ultimate_strain", &c.ultimate_strain),
-    ];
+    let given = c.numbers();
     for (key, value) in given {
         if let Some(v) = value
             && !used.contains(&key)

@@ -120,18 +120,7 @@ fn connector(c: &raw::Connector) -> Table {
     if let Some(b) = &c.bodies {
         t.insert("bodies".into(), strings(b.get_ref()));
     }
-    let numbers = [
-        ("stiffness", &c.stiffness),
-        ("young", &c.young),
-        ("area", &c.area),
-        ("inertia", &c.inertia),
-        ("shear_modulus", &c.shear_modulus),
-        ("shear_factor", &c.shear_factor),
-        ("pretension", &c.pretension),
-        ("strength", &c.strength),
-        ("yield_force", &c.yield_force),
-        ("ultimate_strain", &c.ultimate_strain),
-    ];
+    let numbers = c.numbers();
     for (key, value) in numbers {
         if let Some(v) = value {
             t.insert(key.into(), Value::Float(*v.get_ref()));

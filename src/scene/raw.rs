@@ -212,6 +212,25 @@ pub(super) struct Connector {
     pub ultimate_strain: Option<Spanned<f64>>,
 }
 
+impl Connector {
+    /// The numeric keys, by name (`check` rejects those the kind does not use; `cut` writes them).
+    pub fn numbers(&self) -> [(&'static str, &Option<Spanned<f64>>); 10] {
+        let c = self;
+        [
+            ("stiffness", &c.stiffness),
+            ("young", &c.young),
+            ("area", &c.area),
+            ("inertia", &c.inertia),
+            ("shear_modulus", &c.shear_modulus),
+            ("shear_factor", &c.shear_factor),
+            ("pretension", &c.pretension),
+            ("strength", &c.strength),
+            ("yield_force", &c.yield_force),
+            ("ultimate_strain", &c.ultimate_strain),
+        ]
+    }
+}
+
 /// `[[traction]]`
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
