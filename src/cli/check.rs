@@ -46,13 +46,14 @@ pub fn summary(model: &Model) -> String {
         model.materials.iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
     );
     for i in &model.interfaces {
-        let pair = match i.materials {
-            Some([a, b]) => format!("{} / {}", model.materials[a].name, model.materials[b].name),
-            None => "default".to_string(),
+        let pair = match (&i.name, i.materials) {
+            (_, Some([a, b])) => format!("{} / {}", model.materials[a].name, model.materials[b].name),
+            (Some(name), None) => format!("\"{name}\" (joints)"),
+            (None, None) => "default".to_string(),
         };
         s += &format!(
-            "interface {pair}: friction {}, cohesion {} Pa, tensile strength {} Pa, rolling {} m\n",
-            i.friction, i.cohesion, i.tensile_strength, i.rolling
+            "interface {pair}: friction {}, cohesion {} Pa, tensile strength {} Pa, rolling {} m, restitution {}\n",
+            i.friction, i.cohesion, i.tensile_strength, i.rolling, i.restitution
         );
     }
     let how = if model.contact.threshold.is_some() { "given" } else { "estimated: 0.1 x smallest feature" };
