@@ -26,6 +26,8 @@
 //!   mass on the mean velocity d/dt of steps n-9..n all below the threshold, computed here from
 //!   bodies.csv's positions (x, y, rotation) independently of the code's own sum.
 
+mod common;
+use common::body;
 use pbdda::scene::parse;
 use pbdda::world::World;
 use std::path::{Path, PathBuf};
@@ -33,10 +35,6 @@ use std::process::Command;
 
 fn world(text: &str) -> World {
     World::new(parse(text, "stages.toml").unwrap_or_else(|e| panic!("{e}")))
-}
-
-fn body(world: &World, name: &str) -> usize {
-    world.bodies.iter().position(|b| b.name == name).unwrap_or_else(|| panic!("no body {name}"))
 }
 
 const REMOVAL: &str = r#"

@@ -44,17 +44,7 @@ fn traction_vectors_follow_the_outward_normal() {
 }
 
 fn polygon(name: &str, vertices: Vec<Vec2>) -> BodySpec {
-    BodySpec {
-        name: name.into(),
-        shape: Shape::Polygon { vertices },
-        model: BodyModel::Rigid,
-        material: 0,
-        fixed: false,
-        velocity: Vec2::zeros(),
-        angular_velocity: 0.0,
-        initial_stress: None,
-        edge_interfaces: Vec::new(),
-    }
+    BodySpec::at_rest(name, Shape::Polygon { vertices }, BodyModel::Rigid, false)
 }
 
 /// Four blocks tiling the 4 × 2 rectangle (two rows of two, the top-left one a triangle pair
