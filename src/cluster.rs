@@ -23,6 +23,7 @@ use crate::dofs::DofMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 mod dense;
+mod inverse;
 mod sparse;
 pub use dense::DENSE_MAX;
 pub(crate) use dense::block_times;
