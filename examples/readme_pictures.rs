@@ -1,8 +1,10 @@
 //! Writes the README pictures into `docs/img/`: the force chains of a settled hexagonal pile
-//! (`pbdda render`) and the contact force of the §7.5 pendulum (`pbdda plot`).
+//! (`pbdda render`), the contact force of the §7.5 pendulum and the roof bolts' forces of the
+//! staged tunnel `examples/tunnel_insitu.toml` (`pbdda plot`).
 //! Run: `cargo run --release --example readme_pictures`.
 
 use pbdda::model::Model;
+use pbdda::output::connectors::ConnectorWriter;
 use pbdda::output::csv::CsvWriter;
 use pbdda::output::plot::{PlotOptions, plot_results};
 use pbdda::output::render::render_step;
@@ -17,10 +19,12 @@ fn run(name: &str, mut model: Model, steps: usize) -> Result<PathBuf, Box<dyn st
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/readme_pictures").join(name);
     let mut world = World::new(model);
     let mut csv = CsvWriter::create(&dir, 1, steps, true)?;
+    let mut connectors = ConnectorWriter::create(&dir, &world, true)?;
     write_geometry(&dir, &world)?;
-    for _ in 0..steps {
+    while !world.finished() {
         let rec = world.step()?;
         csv.write_step(&world, &rec)?;
+        connectors.write_step(&world, &rec)?;
     }
     Ok(dir)
 }
@@ -39,6 +43,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let chosen =
         written.iter().find(|p| p.to_string_lossy().contains("contact_forces")).ok_or("no contact figure")?;
     std::fs::copy(chosen, img.join("contact_forces.png"))?;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/tunnel_insitu.toml");
+    let model = pbdda::scene::load(&path)?;
+    let steps = model.time.steps;
+    let tunnel = run("tunnel", model, steps)?;
+    let written = plot_results(&tunnel, &tunnel.join("plots"), &opts)?;
+    let chosen = written
+        .iter()
+        .find(|p| p.to_string_lossy().contains("connector_forces"))
+        .ok_or("no connector figure")?;
+    std::fs::copy(chosen, img.join("tunnel_bolt_forces.png"))?;
     println!("wrote {}", img.display());
     Ok(())
 }

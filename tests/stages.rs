@@ -487,3 +487,22 @@ fn stages_read_with_cumulative_settings() {
     assert_eq!(m.stages[2].settings.gravity_history.as_deref(), Some(&[(1.5, 1.0), (2.0, 2.0)][..]));
     assert_eq!(m.stages[1].settings.gravity_history, None);
 }
+
+/// `[time] steps` (or `--set time.steps=N`) may end a staged run before its last stage: the
+/// run stops after exactly N steps, in the stage those steps reach (here 60 steps: the 50 of
+/// "hold", then 10 of "support"); ending after the last stage is an error
+/// (tests/bad_inputs/time_end_not_last_stage.toml).
+#[test]
+fn a_run_may_stop_before_its_last_stage() {
+    let ov = pbdda::scene::Override::parse("time.steps=60").expect("override");
+    let m = pbdda::scene::parse_with(INCLINE, "stages.toml", &[ov]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((m.time.steps, m.stages[1].end_step), (60, 150));
+    let mut w = World::new(m);
+    let mut steps = 0;
+    while !w.finished() {
+        w.step().unwrap_or_else(|e| panic!("{e}"));
+        steps += 1;
+    }
+    assert_eq!(steps, 60);
+    assert_eq!(w.stage_name(), Some("support"));
+}

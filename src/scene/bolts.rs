@@ -29,11 +29,13 @@ pub(super) fn expand(raw: &mut raw::Scene, outlines: &Outlines) -> Check<Vec<Str
     for p in &raw.bolt_pattern {
         patterns.extend(pattern(p, outlines)?);
     }
+    let first_pattern = raw.connector.len();
     raw.connector.extend(patterns);
     let polygons = polygons(raw);
     let connectors = std::mem::take(&mut raw.connector);
     for (i, c) in connectors.into_iter().enumerate() {
         let grouted = c.get_ref().grouted.as_ref().is_some_and(|g| *g.get_ref());
+        let c = if i >= first_pattern && !grouted { held_outside(c, &polygons) } else { c };
         if !grouted {
             if c.get_ref().name.as_ref().is_some_and(|n| n.get_ref().contains('-'))
                 && raw.bolt_pattern.len() > 0
@@ -43,7 +45,11 @@ pub(super) fn expand(raw: &mut raw::Scene, outlines: &Outlines) -> Check<Vec<Str
             raw.connector.push(c);
             continue;
         }
-        let segments = split(i, c, &polygons)?;
+        let mut segments = split(i, c, &polygons)?;
+        if i >= first_pattern && segments.len() == 1 && segments[0].get_ref().bodies.is_none() {
+            // a grouted pattern bolt that crosses no block edge comes back whole
+            segments = segments.into_iter().map(|s| held_outside(s, &polygons)).collect();
+        }
         made.extend(segments.iter().filter_map(|s| s.get_ref().name.as_ref().map(|n| n.get_ref().clone())));
         raw.connector.extend(segments);
     }
@@ -59,6 +65,28 @@ fn polygons(raw: &raw::Scene) -> Vec<(String, Shape)> {
         Some((b.name.get_ref().clone(), Shape::Polygon { vertices: vertices? }))
     };
     raw.body.get_ref().iter().filter_map(|b| polygon(b.get_ref())).collect()
+}
+
+/// A pattern bolt `c` with the bodies that hold its anchors: it starts on its excavation's
+/// boundary, which the blocks of a staged excavation (kept until their stage) share with the
+/// rock, so its first anchor is held by the body just beyond it along the bolt (the rock), its
+/// second by the body holding it. Left as it is when either is not a single body (the reader's
+/// anchor check then reports it).
+fn held_outside(mut c: Spanned<raw::Connector>, polygons: &[(String, Shape)]) -> Spanned<raw::Connector> {
+    let point = |k: usize| {
+        let q = c.get_ref().points.get_ref().get(k)?.get_ref();
+        (q.len() == 2).then(|| Vec2::new(q[0], q[1]))
+    };
+    let (Some(a), Some(b)) = (point(0), point(1)) else { return c };
+    let holder = |x: Vec2| {
+        let found: Vec<&String> = polygons.iter().filter(|(_, s)| s.contains(x)).map(|(n, _)| n).collect();
+        (found.len() == 1).then(|| found[0].clone())
+    };
+    if let (Some(first), Some(second)) = (holder(a + (b - a) * 1e-6), holder(b)) {
+        let header = c.span();
+        c.get_mut().bodies = Some(at(&header, vec![at(&header, first), at(&header, second)]));
+    }
+    c
 }
 
 /// The parameters t in (0, 1) where the segment a + t (b - a) crosses an edge of a polygon.

@@ -59,7 +59,8 @@ pub(super) fn stages(
 }
 
 /// Names, ends (each after the previous one by at least a step) and `until_kinetic`; the run's
-/// `[time]` must end with the last stage.
+/// `[time]` must not end after the last stage (it may end before it: the run stops there, as
+/// `--set time.steps=4` does for a quick look at a staged scene).
 fn ends(raw: &raw::Scene, model: &Model) -> Check<Vec<Stage>> {
     unique_names(raw.stage.iter().map(|s| &s.get_ref().name), "stage")?;
     let dt = model.time.step;
@@ -91,11 +92,12 @@ fn ends(raw: &raw::Scene, model: &Model) -> Check<Vec<Stage>> {
     let time = raw.time.get_ref();
     if let (Some(last), Some(span)) =
         (stages.last(), time.end.as_ref().map(Spanned::span).or(time.steps.as_ref().map(Spanned::span)))
-        && model.time.steps != last.end_step
+        && model.time.steps > last.end_step
     {
         let message = format!(
             "the run has {} steps, but its last stage \"{}\" ends at {} (step {}): with stages, leave out \
-             [time] `end` and `steps`, or make them end with the last stage",
+             [time] `end` and `steps`, or make them end with the last stage (or before it, to stop the run \
+             early)",
             model.time.steps, last.name, last.end, last.end_step
         );
         return fail(span, message);
