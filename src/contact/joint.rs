@@ -6,13 +6,66 @@
 use super::block::vertex_edge_admissible;
 use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
 use super::{ContactGeom, JointKey};
+use std::collections::BTreeMap;
 
 /// Joints between the edges of `x` and `y`; `x` must be the body with the smaller index.
+/// Where one vertex ends several joints (a mesh node between two edges of a face), the joints'
+/// strength is shared by tributary lengths ([`tributary`], math note §4.15).
 pub fn edge_edge(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    let mut found = Vec::new();
     for e in 0..x.vertex_count() {
         for f in 0..y.vertex_count() {
-            joint(x, e, y, f, tol, out);
+            joint(x, e, y, f, tol, &mut found);
         }
+    }
+    tributary(found, tol, out);
+}
+
+/// Math note §4.15: the joints' contacts, with those that coincide merged. Two contacts
+/// coincide as the block-block dedupe sees them (same key, or within the merge distance with
+/// parallel or anti-parallel normals): the same node ending two joints of a face. Without a
+/// coincidence the contacts are left as found (two partners share their joint's length,
+/// §4.6). With one, every joint that has a merged end (its "face") gives each of its n end
+/// contacts (1 or 2) L/n of its length L; such a contact carries the sum of its shares over the
+/// joints it ends as its own capacity length, without a partner (`joint` None). The lengths
+/// of a face's contacts then add up to the joints' lengths, where the dedupe used to drop the
+/// shares of the merged ends.
+fn tributary(found: Vec<ContactGeom>, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+    let same = |a: &ContactGeom, b: &ContactGeom| {
+        a.key == b.key
+            || ((a.point - b.point).norm() <= tol.merge && a.normal.dot(&b.normal).abs() >= tol.cos_angle)
+    };
+    // owner[k]: the first contact that contact k coincides with (itself if none)
+    let owner: Vec<usize> =
+        (0..found.len()).map(|k| (0..k).find(|&i| same(&found[i], &found[k])).unwrap_or(k)).collect();
+    if owner.iter().enumerate().all(|(k, &o)| o == k) {
+        out.extend(found);
+        return;
+    }
+    // per joint: its end contacts and whether one of them is merged
+    let mut joints: BTreeMap<Option<JointKey>, (f64, bool)> = BTreeMap::new();
+    for (k, c) in found.iter().enumerate() {
+        let j = joints.entry(c.joint).or_default();
+        j.0 += 1.0;
+        j.1 |= owner[k] != k || owner[k + 1..].contains(&k);
+    }
+    let mut length = vec![0.0; found.len()];
+    let mut face = vec![false; found.len()];
+    for (k, c) in found.iter().enumerate() {
+        if let Some(&(ends, true)) = joints.get(&c.joint) {
+            length[owner[k]] += c.joint_length / ends;
+            face[owner[k]] = true;
+        }
+    }
+    for (k, mut c) in found.into_iter().enumerate() {
+        if owner[k] != k {
+            continue;
+        }
+        if face[k] {
+            c.joint = None;
+            c.joint_length = length[k];
+        }
+        out.push(c);
     }
 }
 
@@ -233,5 +286,82 @@ mod tests {
         check(&c[3], key(0, Edge(3), 1, Vertex(3)), BB, (-1.0, 0.0), 0.0, (1.0, 1.5), TOL);
         assert!(c[..2].iter().all(|k| k.joint == jk(0, 2, 1, 0) && (k.joint_length - 0.5).abs() < TOL));
         assert!(c[2..].iter().all(|k| k.joint == jk(0, 3, 1, 3) && (k.joint_length - 0.5).abs() < TOL));
+    }
+
+    /// A mesh's boundary loop (straight nodes are contact nodes, math note §9.2).
+    fn mesh_loop(pts: &[(f64, f64)]) -> crate::contact::BodyShape {
+        let v: Vec<crate::geometry::Vec2> =
+            pts.iter().map(|&(x, y)| crate::geometry::Vec2::new(x, y)).collect();
+        let convex = crate::geometry::loop_contact_flags(&v);
+        crate::contact::BodyShape::Polygon { vertices: v, convex, nodes: true, holes: Vec::new() }
+    }
+
+    /// The joint contacts of a pair as (x of the point, capacity length), sorted by x, and
+    /// whether any keeps a joint partner.
+    fn lengths(c: &[crate::contact::ContactGeom]) -> (Vec<(f64, f64)>, bool) {
+        let mut l: Vec<(f64, f64)> =
+            c.iter().filter(|k| k.joint_length > 0.0).map(|k| (k.point.x, k.joint_length)).collect();
+        l.sort_by(|a, b| a.0.total_cmp(&b.0));
+        (l, c.iter().any(|k| k.joint.is_some()))
+    }
+
+    fn assert_lengths(got: &[(f64, f64)], want: &[(f64, f64)]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!((g.0 - w.0).abs() < TOL && (g.1 - w.1).abs() < TOL, "{got:?} vs {want:?}");
+        }
+    }
+
+    /// Math note §4.15, meshed on rigid (B-L): a loop [0,1]×[0.01,1.01] with bottom nodes at
+    /// x = 0, 0.3, 0.55, 1 over the floor [-5,5]×[-1,0]. Three joints (one per bottom edge,
+    /// lengths 0.3, 0.25, 0.45); each node's length is half of each edge beside it: 0.15,
+    /// 0.275, 0.35, 0.225, adding up to the face's 1 (the rigid block's joint length), with no
+    /// partners. Sums of halves of exact decimals: a few ulp.
+    #[test]
+    fn mesh_face_on_rigid_floor_carries_tributary_lengths() {
+        let block =
+            mesh_loop(&[(0.0, 0.01), (0.3, 0.01), (0.55, 0.01), (1.0, 0.01), (1.0, 1.01), (0.0, 1.01)]);
+        let (got, partnered) = lengths(&contacts(0, 1, &rect(-5.0, -1.0, 5.0, 0.0), &block, D0));
+        assert!(!partnered);
+        assert_lengths(&got, &[(0.0, 0.15), (0.3, 0.275), (0.55, 0.35), (1.0, 0.225)]);
+        let sum: f64 = got.iter().map(|g| g.1).sum();
+        assert!((sum - 1.0).abs() < TOL);
+    }
+
+    /// Math note §4.15, rigid on meshed (B-L): the block [0.2,0.9]×[0.01,1] on a meshed base
+    /// [0,1]×[-1,0] with top nodes every 0.25. Joints: the block's bottom edge against the
+    /// base's top edges, overlaps 0.05 ([0.2,0.25], the block's corner on the base's edge and the
+    /// node at 0.25 on the block's edge), 0.25, 0.25 and 0.15 ([0.75,0.9]). Lengths: corner 0.2
+    /// 0.025, nodes 0.25, 0.5, 0.75: 0.15, 0.25, 0.2, corner 0.9 0.075; sum 0.7, the block's
+    /// width.
+    #[test]
+    fn rigid_block_on_mesh_face_carries_tributary_lengths() {
+        let base = mesh_loop(&[
+            (0.0, -1.0),
+            (1.0, -1.0),
+            (1.0, 0.0),
+            (0.75, 0.0),
+            (0.5, 0.0),
+            (0.25, 0.0),
+            (0.0, 0.0),
+        ]);
+        let (got, partnered) = lengths(&contacts(0, 1, &base, &rect(0.2, 0.01, 0.9, 1.0), D0));
+        assert!(!partnered);
+        assert_lengths(&got, &[(0.2, 0.025), (0.25, 0.15), (0.5, 0.25), (0.75, 0.2), (0.9, 0.075)]);
+    }
+
+    /// Math note §4.15 with §9.2's one-pass L-L: a fine loop [0.5,1.5]×[0.01,1.01] (bottom nodes
+    /// every 0.25) on a coarse base [0,2]×[-1,0] whose top has a straight node at x = 1 (masked:
+    /// the coarse loop keeps its corners only). The fine nodes carry the face; the node at
+    /// x = 1 ends a joint on each of the coarse top edges (two keys, one point): merged, it
+    /// carries 0.125 + 0.125. Lengths 0.125, 0.25, 0.25, 0.25, 0.125: sum 1, the fine face.
+    #[test]
+    fn mesh_face_on_mesh_face_carries_tributary_lengths() {
+        let base = mesh_loop(&[(0.0, -1.0), (2.0, -1.0), (2.0, 0.0), (1.0, 0.0), (0.0, 0.0)]);
+        let mut pts: Vec<(f64, f64)> = (0..5).map(|k| (0.5 + 0.25 * k as f64, 0.01)).collect();
+        pts.extend([(1.5, 1.01), (0.5, 1.01)]);
+        let (got, partnered) = lengths(&contacts(0, 1, &base, &mesh_loop(&pts), D0));
+        assert!(!partnered);
+        assert_lengths(&got, &[(0.5, 0.125), (0.75, 0.25), (1.0, 0.25), (1.25, 0.25), (1.5, 0.125)]);
     }
 }

@@ -122,10 +122,13 @@ pub struct JointKey {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactGeom {
     pub key: ContactKey,
-    /// Edge-edge joint this contact is one end of, if any.
+    /// Edge-edge joint this contact is one end of, if it shares the joint's strength with the
+    /// joint's other end (math note §4.6).
     pub joint: Option<JointKey>,
-    /// Overlap length of the joint's two edges [m] (cohesion and tensile capacity = stress ×
-    /// this length); 0 for contacts without a joint.
+    /// The length of joint whose strength the contact carries [m] (cohesion and tensile
+    /// capacity = stress × this length): the overlap of its joint's two edges, shared with the
+    /// partner; on a face of several joints (a mesh's nodes along an edge), without a joint,
+    /// its tributary length (math note §4.15); 0 for other contacts.
     pub joint_length: f64,
     pub kind: ContactKind,
     /// Body index the normal points into (A of math note §0).

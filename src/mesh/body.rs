@@ -6,7 +6,7 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 
-use super::loops::boundary_loops;
+use super::loops::contact_loops;
 use super::tri3::{Pattern, Tri3, Vec6};
 use crate::geometry::{Vec2, cross};
 use crate::model::MeshShape;
@@ -64,11 +64,7 @@ impl MeshBody {
     ) -> MeshBody {
         let m = &shape.mesh;
         let pattern = Pattern::with_rollers(m.nodes.len(), &m.triangles, &shape.fixed_nodes, &shape.rollers);
-        // the scene checks the loops (a bad mesh is a scene error); an unusable boundary here
-        // (a model built in code) only loses its contacts
-        let loops = boundary_loops(&m.nodes, &m.triangles).unwrap_or_default();
-        let outer = loops.first().filter(|l| !l.is_hole()).map(|l| l.nodes.clone()).unwrap_or_default();
-        let holes = loops.iter().filter(|l| l.is_hole()).map(|l| l.nodes.clone()).collect();
+        let (outer, holes) = contact_loops(&m.nodes, &m.triangles);
         let ne = m.triangles.len();
         let mut body = MeshBody {
             reference: m.nodes.clone(),
@@ -145,9 +141,10 @@ impl MeshBody {
         m
     }
 
-    /// Node `n`'s part of a DOF vector (zero for a fixed node or component).
+    /// Node `n`'s part of a DOF vector (zero for a fixed node or component, and for every node
+    /// of a fixed body, whose DOF vector is empty).
     pub fn node_value(&self, v: &[f64], n: usize) -> Vec2 {
-        let [x, y] = self.pattern.dofs(n).map(|d| d.map_or(0.0, |d| v[d]));
+        let [x, y] = self.pattern.dofs(n).map(|d| d.and_then(|d| v.get(d)).copied().unwrap_or(0.0));
         Vec2::new(x, y)
     }
 

@@ -97,3 +97,14 @@ pub fn boundary_loops(nodes: &[Vec2], triangles: &[[usize; 3]]) -> Result<Vec<Bo
     });
     Ok(loops)
 }
+
+/// The loops that carry a mesh's contacts (math note §9.2), in the order contact features number
+/// their vertices and edges: the outer loop (the first of [`boundary_loops`], unless it is a
+/// hole) and the holes, as node lists. Nothing for an unusable boundary (the scene refuses one;
+/// a model built in code loses its contacts).
+pub fn contact_loops(nodes: &[Vec2], triangles: &[[usize; 3]]) -> (Vec<usize>, Vec<Vec<usize>>) {
+    let loops = boundary_loops(nodes, triangles).unwrap_or_default();
+    let outer = loops.first().filter(|l| !l.is_hole()).map(|l| l.nodes.clone()).unwrap_or_default();
+    let holes = loops.iter().filter(|l| l.is_hole()).map(|l| l.nodes.clone()).collect();
+    (outer, holes)
+}

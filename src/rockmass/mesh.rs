@@ -7,6 +7,7 @@ use std::fmt::Write;
 use spade::{AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation};
 
 use super::{Block, CutError, EdgeSource};
+use crate::geometry::Vec2;
 use crate::mesh::{Mesh, MeshError};
 
 /// The smallest angle spade's refinement aims for [deg] (below its 30 deg limit of sure termination).
@@ -23,6 +24,25 @@ pub struct TriMesh {
     pub triangles: Vec<[usize; 3]>,
     /// Every boundary edge (counter-clockwise along the block's outline) and the block edge's source.
     pub boundary: Vec<([usize; 2], EdgeSource)>,
+}
+
+impl TriMesh {
+    /// The source of each edge of the mesh's contact loops, in the order contacts number them
+    /// ([`crate::mesh::loops::contact_loops`]: the outer loop's edges, then each hole's): the
+    /// joint provenance of a meshed block's boundary (math note §4.14). An edge that is on no
+    /// block edge (none, as [`mesh_block`] makes them) counts as the outline.
+    pub fn loop_sources(&self) -> Vec<EdgeSource> {
+        let nodes: Vec<Vec2> = self.nodes.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+        let (outer, holes) = crate::mesh::loops::contact_loops(&nodes, &self.triangles);
+        let sources: HashMap<[usize; 2], EdgeSource> = self.boundary.iter().copied().collect();
+        std::iter::once(&outer)
+            .chain(&holes)
+            .flat_map(|l| (0..l.len()).map(move |k| [l[k], l[(k + 1) % l.len()]]))
+            .map(|[a, b]| {
+                sources.get(&[a, b]).or(sources.get(&[b, a])).copied().unwrap_or(EdgeSource::Outline)
+            })
+            .collect()
+    }
 }
 
 /// Meshes `block` with triangles of area at most that of the equilateral triangle of side

@@ -383,13 +383,19 @@ fn body(
 }
 
 /// `edge_interfaces`: one interface name ("" for none) per polygon edge, in the order of the
-/// vertices as given (re-ordered with them when they are stored counter-clockwise).
+/// vertices as given (re-ordered with them when they are stored counter-clockwise); on a mesh,
+/// per edge of its contact loops (a meshed block of a rock mass, as `cut` writes it).
 fn edge_interfaces(b: &raw::Body, shape: &Shape, interfaces: &Names) -> Check<Vec<Option<usize>>> {
     let Some(tags) = &b.edge_interfaces else { return Ok(Vec::new()) };
-    let Shape::Polygon { vertices } = shape else {
-        return fail(tags.span(), "edge_interfaces is only for polygon bodies");
+    let (n, vertices) = match shape {
+        Shape::Polygon { vertices } => (vertices.len(), Some(vertices)),
+        // one per edge of the mesh's contact loops, outer then holes (math note §4.14, §9.2)
+        Shape::Mesh(m) => {
+            let (outer, holes) = crate::mesh::loops::contact_loops(&m.mesh.nodes, &m.mesh.triangles);
+            (outer.len() + holes.iter().map(Vec::len).sum::<usize>(), None)
+        }
+        _ => return fail(tags.span(), "edge_interfaces is only for polygon and mesh bodies"),
     };
-    let n = vertices.len();
     if tags.get_ref().len() != n {
         let message =
             format!("edge_interfaces must name {n} interfaces, one per edge (got {})", tags.get_ref().len());
@@ -402,6 +408,7 @@ fn edge_interfaces(b: &raw::Body, shape: &Shape, interfaces: &Names) -> Check<Ve
             |t| if t.get_ref().is_empty() { Ok(None) } else { resolve(interfaces, t, "interface").map(Some) },
         )
         .collect::<Check<_>>()?;
+    let Some(vertices) = vertices else { return Ok(list) };
     let given = pairs(need(b, &(0..0), &b.vertices, "vertices")?, "vertices")?;
     if given.first() != vertices.first() || given.get(1) != vertices.get(1) {
         // reversed: stored edge i runs from given vertex n-1-i to n-2-i, given edge n-2-i

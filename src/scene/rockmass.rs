@@ -149,7 +149,7 @@ pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
                 .or_else(|e| fail(header.clone(), e.to_string()))?;
             body.shape = at(&header, "mesh".to_owned());
             body.vertices = None;
-            body.edge_interfaces = None;
+            body.edge_interfaces = tagged(&mesh.loop_sources(), &tags, &header);
             body.generated_mesh = Some(fe);
             out.meshes.push((name.clone(), mesh));
         }
