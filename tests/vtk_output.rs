@@ -429,7 +429,7 @@ fn every_example_time_series_matches_its_csvs() {
         .filter(|n| n.ends_with(".toml"))
         .collect();
     names.sort();
-    assert_eq!(names.len(), 27, "{names:?}");
+    assert_eq!(names.len(), 28, "{names:?}");
     for name in &names {
         // a directory of its own: the other tests run some of these examples at the same time
         let (out, world) = run_model(&format!("every_{name}"), example(name), 4, 2);
