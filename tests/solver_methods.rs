@@ -1,4 +1,4 @@
-//! Every VI method (`[solver] method`, math note §4.2, §4.7 and §4.8) reproduces the paper's examples
+//! Every VI method (`[solver] method`, math note §4.2, §4.7, §4.8 and §4.15) reproduces the paper's examples
 //! §7.1–7.10: the rows of `pbdda validate` (closed forms of design note §7, `cli::validate::exact`,
 //! each row with the tolerance justified in its note) are run with the method forced on every
 //! scene, and every row must lie within its tolerance. The QVIs of these scenes have unique
@@ -42,6 +42,11 @@ fn paper_examples_with_nsgs() {
 #[test]
 fn paper_examples_with_mprgp() {
     check("mprgp");
+}
+
+#[test]
+fn paper_examples_with_newton() {
+    check("newton");
 }
 
 #[test]

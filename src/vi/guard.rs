@@ -3,7 +3,7 @@
 //! when its stall guard stops it; MPRGP to NSGS on W's entries, then to the same, when its
 //! passes stop short of the tolerance.
 
-use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, cell, lemke, nsgs};
+use super::{BoundRule, Options, Problem, Report, Solver, Stats, Status, cell, lemke, newton, nsgs};
 
 /// The share of the budget MPRGP leaves for its hand-overs (1/2) when NSGS can take them: on
 /// the 1,000 deformable disks' cold steps MPRGP's passes spent the whole budget and ended at
@@ -98,6 +98,39 @@ impl Solver {
         self.stats.fallbacks = 1;
         self.best.keep(&mut r2, self.stats.status, z);
         r2
+    }
+
+    /// Semismooth Newton (math note §4.16) on W's entries from the warm start; when it fails,
+    /// or W has no entries or blocks it takes, the chain of `method = "mprgp"` from the warm
+    /// start with what is left of the budget (`Stats.fallbacks` = 1).
+    pub(super) fn solve_newton(
+        &mut self,
+        p: &Problem,
+        rule: &dyn BoundRule,
+        z: &mut [f64],
+        opts: &Options,
+    ) -> Report {
+        let owned = p.w.as_csr().is_none().then(|| from_entries(p)).flatten();
+        let w = p.w.as_csr().or(owned.as_ref().map(|w| w.view()));
+        let Some(w) = w.filter(|w| nsgs::applicable(w, p.blocks)) else {
+            return self.solve_mprgp(p, rule, z, opts);
+        };
+        let mut products = 0;
+        let (steps, residual) = match self.newton.run(w, p.q, p.blocks, rule, z, opts, &mut products) {
+            newton::End::Done { steps, residual } => (steps, residual),
+            newton::End::Failed { steps } => (steps, f64::INFINITY),
+        };
+        if residual <= opts.tolerance {
+            self.stats = Stats { status: Status::Converged, products, ..Stats::default() };
+            return Report { outer_iterations: 1, inner_iterations: steps, residual, converged: true };
+        }
+        let rest = Options { max_iterations: opts.max_iterations.saturating_sub(steps), ..*opts };
+        let mut r = self.solve_mprgp(p, rule, z, &rest);
+        r.inner_iterations += steps;
+        r.outer_iterations += 1;
+        self.stats.products += products;
+        self.stats.fallbacks = 1;
+        r
     }
 
     /// Stall guard (math note §4.7): Lemke's method and the cell program on problems they take

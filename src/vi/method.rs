@@ -18,14 +18,23 @@ pub enum Method {
     /// The outer compatibility loop of PC with MPRGP (conjugate gradients with proportioning
     /// and projections) as the inner solver of each pass (math note §4.8).
     Mprgp,
+    /// Semismooth Newton on the natural map with the friction bounds' dependence on the normal
+    /// force in its Jacobian (math note §4.16); the chain of `Mprgp` from the warm start when
+    /// it fails or W has no entries.
+    Newton,
 }
 
 impl Method {
     /// Every method with its scene name.
-    pub const ALL: [(&'static str, Method); 4] =
-        [("auto", Method::Auto), ("pc", Method::Pc), ("nsgs", Method::Nsgs), ("mprgp", Method::Mprgp)];
+    pub const ALL: [(&'static str, Method); 5] = [
+        ("auto", Method::Auto),
+        ("pc", Method::Pc),
+        ("nsgs", Method::Nsgs),
+        ("mprgp", Method::Mprgp),
+        ("newton", Method::Newton),
+    ];
 
-    /// The method of a scene name (`auto`, `pc`, `nsgs`, `mprgp`).
+    /// The method of a scene name (`auto`, `pc`, `nsgs`, `mprgp`, `newton`).
     pub fn parse(name: &str) -> Option<Method> {
         Self::ALL.iter().find(|(s, _)| *s == name).map(|(_, m)| *m)
     }

@@ -60,7 +60,9 @@
 //! inner solver of each pass, handed over when it fails to NSGS on W's entries and, if that
 //! stalls, to PC (math note §4.8, "MPRGP's fallbacks"). Before PC, a stalled NSGS on a small
 //! Coulomb problem hands over to Lemke's pivoting (`lemke.rs`, math note §4.12).
-//! [`Method::Auto`] runs MPRGP.
+//! [`Method::Auto`] runs MPRGP. [`Method::Newton`] runs a semismooth Newton method on the
+//! natural map with the friction bounds' dependence on the normal forces in its Jacobian
+//! (`newton.rs`, math note §4.16), and the MPRGP chain from the warm start when it fails.
 //!
 //! # Performance
 //!
@@ -116,6 +118,7 @@ mod local;
 mod measure;
 mod method;
 mod mprgp;
+mod newton;
 mod nsgs;
 mod operator;
 mod outer;
@@ -369,6 +372,7 @@ pub struct Solver {
     /// proportioning test (`mprgp::StepLength`).
     step_length: Option<f64>,
     nsgs: nsgs::Work,
+    newton: newton::Work,
     /// The best answer of the methods' hand-overs (`guard.rs`).
     best: guard::Best,
     /// Storage of the residual of unconverged answers (`measure.rs`).
@@ -394,6 +398,7 @@ impl Solver {
             exact: false,
             step_length: None,
             nsgs: nsgs::Work::default(),
+            newton: Default::default(),
             best: guard::Best::default(),
             check: measure::Check::default(),
             scaling: scaling::Scaling::default(),
@@ -461,6 +466,7 @@ impl Solver {
         match (self.method.resolve(), csr) {
             (Method::Nsgs, Some(w)) if nsgs_ok => self.solve_nsgs(w, p, rule, z, opts),
             (Method::Mprgp, _) => self.solve_mprgp(p, rule, z, opts),
+            (Method::Newton, _) => self.solve_newton(p, rule, z, opts),
             _ => self.solve_pc(p, rule, z, opts, false),
         }
     }
