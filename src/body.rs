@@ -5,7 +5,7 @@
 //! deformable polygon `(u0, v0, θ, εx, εy, γxy)`; a fixed body has none.
 
 use crate::contact::{BodyShape, HoleLoop};
-use crate::geometry::{Vec2, convex_flags, cross, loop_contact_flags, polygon_moments};
+use crate::geometry::{Vec2, cross, loop_contact_flags, polygon_contact_flags, polygon_moments};
 use crate::mesh::body::MeshBody;
 use crate::model::{BodyModel, BodySpec, Material, Plane, Shape};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
@@ -106,7 +106,8 @@ impl Body {
             Shape::Disk { center, radius } => (Outline::Disk { radius: *radius }, *center),
             Shape::Ring { center, outer, inner } => (Outline::Ring { outer: *outer, inner: *inner }, *center),
             Shape::Polygon { vertices } => {
-                let outline = Outline::Polygon { vertices: vertices.clone(), convex: convex_flags(vertices) };
+                let convex = polygon_contact_flags(vertices, &spec.edge_interfaces);
+                let outline = Outline::Polygon { vertices: vertices.clone(), convex };
                 (outline, polygon_moments(vertices).centroid)
             }
             Shape::Mesh(_) => unreachable!("mesh bodies are built by Body::mesh"),

@@ -45,6 +45,25 @@ pub fn convex_flags(v: &[Vec2]) -> Vec<bool> {
     (0..n).map(|i| cross(v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]) > 0.0).collect()
 }
 
+/// Which vertices of a rigid polygon make contacts (math note §5.1): the convex ones
+/// ([`convex_flags`]) and the straight ones (the turn's sine within ±[`STRAIGHT_SINE`]) where
+/// the two edges carry different interfaces (`tags[k - 1] != tags[k]`, e.g. a trace piece meeting
+/// its cemented bridge), so that every edge piece with its own law has contacts at both ends.
+/// `tags` is empty (no edge tagged: the convex flags) or holds one entry per edge.
+pub fn polygon_contact_flags(v: &[Vec2], tags: &[Option<usize>]) -> Vec<bool> {
+    let mut flags = convex_flags(v);
+    let n = v.len();
+    if tags.len() != n {
+        return flags;
+    }
+    for (i, flag) in flags.iter_mut().enumerate() {
+        let (a, b) = (v[i] - v[(i + n - 1) % n], v[(i + 1) % n] - v[i]);
+        let straight = cross(a, b).abs() <= STRAIGHT_SINE * a.norm() * b.norm();
+        *flag |= straight && tags[(i + n - 1) % n] != tags[i];
+    }
+    flags
+}
+
 /// Area moments of a polygon about its centroid (math note §2.1, Shi's simplex integration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PolygonMoments {

@@ -1,4 +1,4 @@
-//! The semismooth Newton method (`[solver] method = "newton"`, math note §4.15): KKT of the
+//! The semismooth Newton method (`[solver] method = "newton"`, math note §4.16): KKT of the
 //! Coulomb QVI on random three-disk rows, and a sliding mass of blocks against the closed form
 //! of a body sliding down an incline.
 
@@ -28,7 +28,7 @@ impl BoundRule for Law {
 /// 200 random three-disk rows (`disk_row`: random radii, densities, velocities; μ in
 /// [0.1, 1]), cold started. Expected: converged, with the KKT conditions of the QVI at the
 /// answer (`check_coulomb`, whose tolerances derive from the residual eps = 1e-10 in its
-/// header), whether Newton answers or hands over to the mprgp chain (math note §4.15; it
+/// header), whether Newton answers or hands over to the mprgp chain (math note §4.16; it
 /// hands over on one of these 200).
 #[test]
 fn newton_meets_the_coulomb_kkt_conditions_on_random_disk_rows() {

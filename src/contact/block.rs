@@ -4,10 +4,12 @@
 //!
 //! Only convex vertices make contacts: a reflex (or straight, 180°) vertex is never the point
 //! of its body nearest to another body. A convex vertex in a notch of a concave body touches
-//! the notch's edges, because an edge's projection range is closed at a non-convex end.
+//! the notch's edges, because an edge's projection range is closed at a non-convex end. The one
+//! exception is a straight vertex where the edge's interface changes (a seam, math note §5.1):
+//! it is flagged as a contact vertex, so each edge piece has contacts at both of its ends.
 
-use super::ContactGeom;
 use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
+use super::{ContactGeom, Feature};
 use crate::geometry::{STRAIGHT_SINE, Vec2};
 
 /// All contacts between polygons `p` and `q` (either order). The polygon with the smaller
@@ -47,7 +49,26 @@ fn pairs(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>)
     vertex_edges(x, y, tol, &mut found);
     let mut corners = Vec::new();
     vertex_vertex(x, y, tol, &mut corners);
-    dedupe(found, corners, tol, out);
+    let seam = |c: &ContactGeom| seam_end(c, x, y, tol);
+    dedupe(found, corners, tol, seam, out);
+}
+
+/// Whether `c` is a contact at a seam (math note §5.1): its vertex is a straight contact vertex
+/// of a rigid polygon (flagged by [`crate::geometry::polygon_contact_flags`] where the edge's
+/// interface changes) and one end of its edge is such a vertex of the other polygon at the same
+/// point. Two joints end there, one per edge piece, and each keeps its own end contact.
+fn seam_end(c: &ContactGeom, x: &Polygon, y: &Polygon, tol: &Tolerances) -> bool {
+    let (Feature::Vertex(kv), Feature::Edge(f)) = (c.key.fb, c.key.fa) else { return false };
+    let (p, q) = if c.key.b as usize == x.body { (x, y) } else { (y, x) };
+    let straight = |poly: &Polygon, k: usize| {
+        !poly.nodes && k < poly.vertex_count() && poly.convex[k] && poly.turn(k).abs() <= STRAIGHT_SINE
+    };
+    let (kv, f) = (kv as usize, f as usize);
+    if !straight(p, kv) || f >= q.vertex_count() {
+        return false;
+    }
+    let v = p.vertices[kv];
+    [f, q.next(f)].into_iter().any(|m| (q.vertices[m] - v).norm() <= tol.merge && straight(q, m))
 }
 
 /// Whether vertex k of `x` against edge f of `y` is a vertex-edge contact, apart from where
@@ -125,13 +146,23 @@ fn inside_incident(poly: &Polygon, m: usize, p: Vec2) -> bool {
 /// from the other body). Contacts at one point with clearly different normals (a vertex in a
 /// notch corner) are distinct constraints and are both kept. A vertex-vertex contact
 /// (`corners`) is dropped if any kept contact lies within the merge distance: the corner is
-/// already held there (e.g. at the coincident end of a joint).
-fn dedupe(found: Vec<ContactGeom>, corners: Vec<ContactGeom>, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+/// already held there (e.g. at the coincident end of a joint). The exception: at a seam
+/// (`seam`, [`seam_end`]) the end contacts of two different joints are both kept, one per edge
+/// piece with its own law (math note §5.1).
+fn dedupe(
+    found: Vec<ContactGeom>,
+    corners: Vec<ContactGeom>,
+    tol: &Tolerances,
+    seam: impl Fn(&ContactGeom) -> bool,
+    out: &mut Vec<ContactGeom>,
+) {
     let near = |a: &ContactGeom, b: &ContactGeom| (a.point - b.point).norm() <= tol.merge;
     let mut kept: Vec<ContactGeom> = Vec::with_capacity(found.len() + corners.len());
     for c in found {
         let parallel = |k: &ContactGeom| k.normal.dot(&c.normal).abs() >= tol.cos_angle;
-        if !kept.iter().any(|k| k.key == c.key || (near(k, &c) && parallel(k))) {
+        let other_joint = |k: &ContactGeom| k.joint.is_some() && c.joint.is_some() && k.joint != c.joint;
+        let same = |k: &ContactGeom| near(k, &c) && parallel(k) && !(other_joint(k) && seam(k) && seam(&c));
+        if !kept.iter().any(|k| k.key == c.key || same(k)) {
             kept.push(c);
         }
     }

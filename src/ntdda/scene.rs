@@ -177,17 +177,11 @@ impl Ctx<'_> {
         }
     }
 
-    /// `blk-N`, N from 1, in the order of pbdda's cutter: centroid y, then x, then area.
+    /// `blk-N`, N from 1, in the order of pbdda's cutter ([`block_order`]).
     fn name_blocks(&mut self) {
         let faces = &self.arr.faces;
         let mut kept: Vec<usize> = (0..faces.len()).filter(|&f| !self.removed[f]).collect();
-        kept.sort_by(|&a, &b| {
-            let (fa, fb) = (&faces[a], &faces[b]);
-            fa.centroid[1]
-                .total_cmp(&fb.centroid[1])
-                .then(fa.centroid[0].total_cmp(&fb.centroid[0]))
-                .then(fa.area.total_cmp(&fb.area))
-        });
+        kept.sort_by(|&a, &b| block_order(&self.arr, a, b));
         for (k, f) in kept.into_iter().enumerate() {
             self.names[f] = Some(format!("blk-{}", k + 1));
         }
@@ -424,3 +418,54 @@ fn crossing(a: [f64; 2], b: [f64; 2], p: [f64; 2], q: [f64; 2]) -> Option<f64> {
 }
 
 mod points;
+
+/// The order of pbdda's cutter (math note §12.4): centroid y, then x, then area, then the
+/// vertex lists from their lowest, then leftmost, vertex. Total: which of two blocks of equal
+/// centroid and area comes first does not depend on the order the faces were found in.
+fn block_order(arr: &Arrangement, a: usize, b: usize) -> std::cmp::Ordering {
+    let (fa, fb) = (&arr.faces[a], &arr.faces[b]);
+    fa.centroid[1]
+        .total_cmp(&fb.centroid[1])
+        .then(fa.centroid[0].total_cmp(&fb.centroid[0]))
+        .then(fa.area.total_cmp(&fb.area))
+        .then_with(|| crate::rockmass::shape_order(&arr.points(&fa.loop_), &arr.points(&fb.loop_)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::arrange::{Arrangement, Face};
+    use super::block_order;
+    use std::cmp::Ordering;
+
+    /// Two blocks whose centroids and areas tie exactly (the unit squares [0,1]² and [2,3]×[0,1],
+    /// given the same centroid (1.5, 0.5) and area 1, as a tie of the shoelace sums would): the
+    /// vertex lists decide, from each block's lowest-leftmost vertex, (0, 0) before (2, 0), in
+    /// whichever order the faces were found.
+    #[test]
+    fn equal_centroids_are_ordered_by_the_vertex_lists() {
+        let vertices = vec![
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 1.0],
+            [0.0, 1.0],
+            [2.0, 0.0],
+            [3.0, 0.0],
+            [3.0, 1.0],
+            [2.0, 1.0],
+        ];
+        let face = |loop_: Vec<usize>| Face { loop_, area: 1.0, centroid: [1.5, 0.5] };
+        let (left, right) = (face(vec![2, 3, 0, 1]), face(vec![6, 7, 4, 5]));
+        for (faces, l, r) in [(vec![left.clone(), right.clone()], 0, 1), (vec![right, left], 1, 0)] {
+            let arr = Arrangement {
+                vertices: vertices.clone(),
+                edges: Vec::new(),
+                faces,
+                outline: Vec::new(),
+                eps: 1e-9,
+            };
+            assert_eq!(block_order(&arr, l, r), Ordering::Less);
+            assert_eq!(block_order(&arr, r, l), Ordering::Greater);
+            assert_eq!(block_order(&arr, l, l), Ordering::Equal);
+        }
+    }
+}

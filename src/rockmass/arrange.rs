@@ -5,10 +5,11 @@ use spade::handles::{FixedVertexHandle, OUTER_FACE};
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
 
 use super::estimate::Checked;
+use super::link::link;
 use super::traces::Segment;
 use super::{CutError, CutSpec, EdgeSource, Report, clip};
 
-type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
+pub(crate) type Cdt = ConstrainedDelaunayTriangulation<Point2<f64>>;
 
 /// Seams are added at most this many times before a block with a hole is an error.
 const SEAM_ROUNDS: usize = 16;
@@ -44,12 +45,16 @@ fn insert(cdt: &mut Cdt, p: [f64; 2]) -> Result<FixedVertexHandle, CutError> {
     })
 }
 
-fn add(cdt: &mut Cdt, a: [f64; 2], b: [f64; 2]) -> Result<(), CutError> {
+/// Adds the segment a -> b as constraints, split at its crossings ([`link`]).
+fn add(
+    cdt: &mut Cdt,
+    a: [f64; 2],
+    b: [f64; 2],
+    snap: f64,
+    reports: &mut Vec<Report>,
+) -> Result<(), CutError> {
     let (u, v) = (insert(cdt, a)?, insert(cdt, b)?);
-    if u != v {
-        cdt.add_constraint_and_split(u, v, |p| p);
-    }
-    Ok(())
+    link(cdt, u, v, snap, reports)
 }
 
 /// Cuts the domain by every segment and returns its blocks.
@@ -61,24 +66,27 @@ pub(crate) fn build(
     let mut cdt = Cdt::new();
     let mut inputs: Vec<Segment> = Vec::new();
     let mut corners = Vec::new();
-    let mut polygon = |poly: &[[f64; 2]], source: EdgeSource, cdt: &mut Cdt| -> Result<(), CutError> {
+    let mut reports = Vec::new();
+    // a few dozen ulps of the coordinates: far below the 1e-9 D the trace ends reach past a
+    // line (§12.1), which a larger snap would pull the line onto
+    let snap = 1e-14 * checked.scale;
+    let mut polygon = |poly: &[[f64; 2]], source: EdgeSource, cdt: &mut Cdt, reports: &mut Vec<Report>| {
         for i in 0..poly.len() {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
             corners.push(insert(cdt, a)?);
-            add(cdt, a, b)?;
+            add(cdt, a, b, snap, reports)?;
             inputs.push(Segment { a, b, source });
         }
-        Ok(())
+        Ok::<(), CutError>(())
     };
-    polygon(&checked.domain, EdgeSource::Outline, &mut cdt)?;
+    polygon(&checked.domain, EdgeSource::Outline, &mut cdt, &mut reports)?;
     for (i, e) in checked.excavations.iter().enumerate() {
-        polygon(e, EdgeSource::Excavation(i), &mut cdt)?;
+        polygon(e, EdgeSource::Excavation(i), &mut cdt, &mut reports)?;
     }
     for s in segments {
-        add(&mut cdt, s.a, s.b)?;
+        add(&mut cdt, s.a, s.b, snap, &mut reports)?;
         inputs.push(*s);
     }
-    let mut reports = Vec::new();
     for _ in 0..SEAM_ROUNDS {
         let regions = regions(spec, checked, &cdt)?;
         let mut seams = Vec::new();
@@ -94,9 +102,7 @@ pub(crate) fn build(
         for (a, b) in seams {
             let (pa, pb) = (pos(&cdt, a), b);
             let vb = insert(&mut cdt, pb)?;
-            if vb != a {
-                cdt.add_constraint_and_split(a, vb, |p| p);
-            }
+            link(&mut cdt, a, vb, snap, &mut reports)?;
             inputs.push(Segment { a: pa, b: pb, source: EdgeSource::Seam });
             reports.push(Report::Seam { from: pa, to: pb });
         }

@@ -3,8 +3,8 @@
 //! the removed excavations, each edge remembering where it came from.
 //!
 //! The geometry is spade's constrained Delaunay triangulation: every outline, trace and joint is a
-//! constraint edge, crossing constraints are split where they cross
-//! (`add_constraint_and_split`), and a block is a connected set of triangles that no constraint
+//! constraint edge, crossing constraints are split where they cross (by the glue, math note
+//! §12.7), and a block is a connected set of triangles that no constraint
 //! separates. A trace piece that closes no block has the same block on both sides and so
 //! vanishes by itself (the tree cutting of Shi's DC cutter).
 //!
@@ -25,6 +25,7 @@ mod arrange;
 mod clip;
 mod estimate;
 mod join;
+mod link;
 mod mesh;
 mod polish;
 mod traces;
@@ -264,8 +265,9 @@ pub enum CutError {
 pub fn cut(spec: &CutSpec) -> Result<Cut, CutError> {
     let checked = estimate::check(spec)?;
     let segments = traces::segments(spec, &checked)?;
-    // spade asserts on some near-degenerate crossings (`previous_region` in its constraint
-    // splitting); such a cut is an error naming where, not a panic
+    // the last guard only: the glue never asks spade to split a constraint (math note §12.7),
+    // whose assertion on nearly coincident crossings this once caught; a panic left in the
+    // triangulation is still an error naming where, not a crash
     let built =
         std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| arrange::build(spec, &checked, &segments)));
     let arrangement = built.map_err(|_| CutError::Degenerate {
@@ -277,10 +279,25 @@ pub fn cut(spec: &CutSpec) -> Result<Cut, CutError> {
     polish::finish(spec, &checked, arrangement)
 }
 
-/// The block order: centroid y, then centroid x, then area.
+/// The block order (math note §12.4): centroid y, then centroid x, then area, then the vertex
+/// lists ([`shape_order`]).
 pub(crate) fn block_order(a: &Block, b: &Block) -> std::cmp::Ordering {
     a.centroid[1]
         .total_cmp(&b.centroid[1])
         .then(a.centroid[0].total_cmp(&b.centroid[0]))
         .then(a.area.total_cmp(&b.area))
+        .then_with(|| shape_order(&a.vertices, &b.vertices))
+}
+
+/// Two vertex loops compared point by point (y, then x, by `f64::total_cmp`), each from its
+/// lowest, then leftmost, vertex; then by length. Two different loops never compare equal, so
+/// with it the block order is total (math note §12.4).
+pub(crate) fn shape_order(a: &[[f64; 2]], b: &[[f64; 2]]) -> std::cmp::Ordering {
+    let yx = |p: &[f64; 2], q: &[f64; 2]| p[1].total_cmp(&q[1]).then(p[0].total_cmp(&q[0]));
+    let from_lowest = |v: &[[f64; 2]]| -> Vec<usize> {
+        let start = (0..v.len()).min_by(|&i, &j| yx(&v[i], &v[j])).unwrap_or(0);
+        (0..v.len()).map(|k| (start + k) % v.len()).collect()
+    };
+    let mut pairs = from_lowest(a).into_iter().zip(from_lowest(b));
+    pairs.find_map(|(i, j)| Some(yx(&a[i], &b[j])).filter(|o| o.is_ne())).unwrap_or(a.len().cmp(&b.len()))
 }

@@ -138,7 +138,16 @@ pub(crate) fn finish(spec: &CutSpec, checked: &Checked, arr: Arrangement) -> Res
     }
     let mut blocks = Vec::with_capacity(polys.len());
     for p in polys.into_iter().filter(|p| p.alive) {
-        let (verts, edges) = straighten(&positions, p.verts, p.edges);
+        let (mut verts, mut edges) = straighten(&positions, p.verts, p.edges);
+        // each loop from its lowest, then leftmost, vertex (math note §12.4): the output does
+        // not depend on where the triangulation's walk began
+        let yx = |i: &usize, j: &usize| {
+            let (a, b) = (positions[verts[*i]], positions[verts[*j]]);
+            a[1].total_cmp(&b[1]).then(a[0].total_cmp(&b[0]))
+        };
+        let start = (0..verts.len()).min_by(yx).unwrap_or(0);
+        verts.rotate_left(start);
+        edges.rotate_left(start);
         blocks.push(block(&positions, &verts, edges, p.excavation)?);
     }
     blocks.sort_by(super::block_order);
