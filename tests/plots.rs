@@ -237,9 +237,8 @@ fn bolts_are_drawn_anchor_to_anchor_in_the_colour_of_their_force() {
 /// The cap pulled off the rock by an upward g = 10 (52 kN per metre), static analysis with dt =
 /// 0.1 s (the mass term 2m/dt² = 1e6 N/m is 2 % of a bolt's EA/l = 4.2e7 N/m, so step 1 is
 /// near the static split, 26 kN per bolt): the second bolt, of strength 10 kN, breaks in step 1.
-/// In the picture
-/// of step 1 its middle has the magenta cross of a broken bolt, the intact one its force's
-/// colour; the connector force plot marks the break with the same colour, and the plot of a
+/// In the pictures of step 1 and of step 2 (it broke before: drawn where it broke) its middle
+/// has the magenta cross of a broken bolt; the connector force plot marks the break with the same colour, and the plot of a
 /// run without a break has no pixel of it.
 #[test]
 fn broken_bolts_are_marked_in_render_and_plot() {
@@ -260,6 +259,15 @@ fn broken_bolts_are_marked_in_render_and_plot() {
     let mid = view.px((lines[1].a + lines[1].b) / 2.0);
     let mark = [BROKEN_MARK.0, BROKEN_MARK.1, BROKEN_MARK.2];
     assert_eq!(px[mid.1 as usize * w as usize + mid.0 as usize], mark, "cross at the broken bolt's middle");
+    // at step 2 (no row: it broke before) it is still drawn, where it broke
+    let later = connector_lines(&dir, 2).expect("connector rows");
+    let broken: Vec<_> = later.iter().filter(|l| l.broken).collect();
+    assert_eq!((later.len(), broken.len()), (2, 1));
+    assert_eq!((broken[0].a, broken[0].b), (lines[1].a, lines[1].b));
+    let (png, view) = render_view(&dir, Some(2), &dir.join("broken_2.png"), (800, 600)).expect("render");
+    let (w, _, px) = decode(&png);
+    let mid = view.px((lines[1].a + lines[1].b) / 2.0);
+    assert_eq!(px[mid.1 as usize * w as usize + mid.0 as usize], mark, "cross at step 2");
     let opts = PlotOptions { size: (640, 480), svg: false, ..PlotOptions::default() };
     let plots = plot_results(&dir, &dir.join("plots"), &opts).expect("plots");
     let forces = plots.iter().find(|p| p.ends_with("connector_forces.png")).expect("connector plot");

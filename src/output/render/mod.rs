@@ -1,10 +1,11 @@
 //! `pbdda render`: a PNG picture of the scene at a written step, from a results folder:
 //! bodies (polygons, disks and rings as circles; fixed bodies grey); mesh bodies with their
 //! elements filled by a stress colour map; the force chains as lines from each moving body's
-//! centroid to its contact points, width proportional to the normal force (red compression,
-//! blue tension of cemented contacts); contacts with a named interface marked by a stroke in
+//! centroid to its contact points, width proportional to the normal force (dark red
+//! compression, dark blue tension of cemented contacts); contacts with a named interface marked by a stroke in
 //! the colour of their joint set, with a key; connectors from anchor to anchor coloured by
-//! their axial force (broken ones grey with a magenta cross); a colour bar per colour map and
+//! their axial force (broken ones grey with a magenta cross, at the step they broke in and
+//! after it, where they broke); a colour bar per colour map and
 //! a length scale.
 //!
 //! Shapes come from `geometry.csv` (see [`super::results`]), positions from `bodies.csv`,
@@ -169,7 +170,7 @@ fn layout(size: (u32, u32), stress: bool, force: bool) -> [(i32, i32, i32); 3] {
 }
 
 /// Force chains: a line from each moving body's centroid to each of its contact points, width
-/// by the normal force, red compression, blue tension.
+/// by the normal force, dark red compression, dark blue tension.
 fn draw_force_chains<'a>(
     root: &Area<'a>,
     view: &View,
@@ -179,7 +180,8 @@ fn draw_force_chains<'a>(
     let fmax = contacts.iter().map(|c| c.normal_force.abs()).fold(0.0, f64::max);
     for c in contacts.iter().filter(|c| c.normal_force != 0.0 && fmax > 0.0) {
         let width = (MAX_LINE * c.normal_force.abs() / fmax).max(1.0).round() as u32;
-        let color = if c.normal_force > 0.0 { RGBColor(200, 30, 30) } else { RGBColor(30, 60, 200) };
+        // dark red and dark blue: apart from the colour map's colours
+        let color = if c.normal_force > 0.0 { RGBColor(110, 20, 20) } else { RGBColor(20, 20, 110) };
         for name in [&c.body_a, &c.body_b] {
             if let Some((from, false)) = centroid.get(name.as_str()) {
                 root.draw(&PathElement::new(

@@ -24,7 +24,8 @@ pub struct ConnectorLine {
     pub broken: bool,
 }
 
-/// The `connectors.csv` rows of `step` (none without the file).
+/// The `connectors.csv` rows of `step`, and the rows of the connectors that broke before it
+/// (their one `broken` row: where they broke); none without the file.
 pub fn connector_lines(dir: &Path, step: usize) -> Result<Vec<ConnectorLine>, ResultsError> {
     let path = dir.join("connectors.csv");
     if !path.exists() {
@@ -36,8 +37,10 @@ pub fn connector_lines(dir: &Path, step: usize) -> Result<Vec<ConnectorLine>, Re
     let xy = ["anchor_a_x", "anchor_a_y", "anchor_b_x", "anchor_b_y"].map(|k| t.numbers(k));
     let [ax, ay, bx, by] = xy;
     let (ax, ay, bx, by) = (ax?, ay?, bx?, by?);
+    // the step's rows, and connectors that broke before it where they broke
+    let broke_before = |i: usize| steps[i] < step && state[i] == "broken";
     Ok((0..steps.len())
-        .filter(|&i| steps[i] == step)
+        .filter(|&i| steps[i] == step || broke_before(i))
         .map(|i| ConnectorLine {
             a: Vec2::new(ax[i], ay[i]),
             b: Vec2::new(bx[i], by[i]),
