@@ -165,28 +165,40 @@ impl Row {
     }
 }
 
-/// Runs every example; rows in the order of the paper.
+type Part = fn() -> Result<Vec<Row>>;
+
+/// The paper's examples §7.1-7.10, in the order of the paper.
+const PAPER: [Part; 9] = [
+    paper::heap,
+    paper::staircase,
+    paper::billiards,
+    paper::pendulum,
+    paper::sliding_block,
+    paper::rolling_disk,
+    paper::cemented,
+    later::undulation,
+    later::chain,
+];
+
+/// The connector and mesh-convergence rows.
+const BEYOND: [Part; 4] =
+    [connectors::bolted_block, connectors::spring, connectors::cantilever, convergence::cantilever_meshes];
+
+/// Runs every example: the paper's rows in its order, then the connectors and mesh convergence.
 pub fn rows() -> Result<Vec<Row>> {
     let mut rows = Vec::new();
-    let parts = [
-        paper::heap,
-        paper::staircase,
-        paper::billiards,
-        paper::pendulum,
-        paper::sliding_block,
-        paper::rolling_disk,
-        paper::cemented,
-        later::undulation,
-        later::chain,
-        connectors::bolted_block,
-        connectors::spring,
-        connectors::cantilever,
-        convergence::cantilever_meshes,
-    ];
-    for part in parts {
+    for part in PAPER.iter().chain(&BEYOND) {
         rows.extend(part()?);
     }
     Ok(rows)
+}
+
+/// The paper's rows only (§7.1-7.10), with `extra` overrides on every scene.
+pub fn paper_rows_with(extra: &[Override]) -> Result<Vec<Row>> {
+    EXTRA.with(|e| *e.borrow_mut() = extra.to_vec());
+    let rows: Result<Vec<Vec<Row>>> = PAPER.iter().map(|part| part()).collect();
+    EXTRA.with(|e| e.borrow_mut().clear());
+    Ok(rows?.into_iter().flatten().collect())
 }
 
 fn number(x: f64) -> String {
