@@ -247,7 +247,7 @@ fn the_steps_a_bolt_yields_and_breaks_in_are_always_written() {
     assert_eq!(
         lines.next(),
         Some(
-            "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain"
+            "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain,anchor_a_x,anchor_a_y,anchor_b_x,anchor_b_y"
         )
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();

@@ -153,3 +153,163 @@ fn running_folder_renders_the_last_complete_step() {
     let picture = render_step(&dir, None, &dir.join("scene.png"), (300, 200)).expect("render");
     assert_eq!(decode(&picture).0, 300);
 }
+
+/// Runs a scene text for `steps` steps writing everything `pbdda run` writes (CSVs,
+/// connectors.csv, geometry, VTK), every step.
+fn run_all(name: &str, text: &str, steps: usize) -> PathBuf {
+    use pbdda::output::connectors::ConnectorWriter;
+    use pbdda::output::vtk::VtkWriter;
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples").join(format!("{name}.toml"));
+    let mut model =
+        pbdda::scene::parse(text, &file.display().to_string()).unwrap_or_else(|e| panic!("{e:?}"));
+    model.time.steps = steps;
+    model.output.every = 1;
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("plots_{name}"));
+    let mut world = World::new(model);
+    let mut csv = CsvWriter::create(&dir, 1, steps, true).expect("csv writer");
+    let mut lines = ConnectorWriter::create(&dir, &world, true).expect("connector writer");
+    write_geometry(&dir, &world).expect("geometry");
+    let mut vtk = VtkWriter::create(&dir, &world).expect("vtk writer");
+    for _ in 0..steps {
+        let rec = world.step().unwrap_or_else(|e| panic!("{name}: {e}"));
+        csv.write_step(&world, &rec).expect("csv step");
+        lines.write_step(&world, &rec).expect("connectors step");
+        vtk.write_step(&world, &rec).expect("vtk step");
+    }
+    dir
+}
+
+/// A 2 m x 1 m cap on fixed rock (no gravity) held by two vertical bolts through it at x = -0.5
+/// and x = 0.5, each from (x, 0.9) in the cap to (x, -1.5) in the rock, pretensioned to
+/// `pretension` (math note §6: the rigid blocks cannot come closer, so each bolt keeps its
+/// pretension); `extra` is appended to the second bolt, `time` replaces the `[time]` table
+/// (default: 2 steps of 1 ms).
+fn two_bolts(pretension: [f64; 2], extra: &str, time: Option<&str>) -> String {
+    let bolt = |x: f64, p: f64, more: &str| {
+        format!(
+            "[[connector]]\nkind = \"bolt\"\npoints = [[{x}, 0.9], [{x}, -1.5]]\nyoung = 2.0e11\narea = 5.0e-4\n\
+             pretension = {p}\n{more}\n"
+        )
+    };
+    format!(
+        "[scene]\nname = \"two bolts\"\n{}\n[solver]\ntolerance = 1e-10\n\
+         [[material]]\nname = \"rock\"\ndensity = 2600.0\n[[interface]]\nname = \"joint\"\nmaterials = [\"rock\", \"rock\"]\nfriction = 0.5\n\
+         [[body]]\nname = \"rock\"\nshape = \"polygon\"\nvertices = [[-3.0, -2.0], [3.0, -2.0], [3.0, 0.0], [-3.0, 0.0]]\n\
+         material = \"rock\"\nfixed = true\n\
+         [[body]]\nname = \"cap\"\nshape = \"polygon\"\nvertices = [[-1.0, 0.0], [1.0, 0.0], [1.0, 1.0], [-1.0, 1.0]]\n\
+         material = \"rock\"\n{}{}",
+        time.unwrap_or("[time]\nstep = 0.001\nsteps = 2"),
+        bolt(-0.5, pretension[0], ""),
+        bolt(0.5, pretension[1], extra)
+    )
+}
+
+/// Bolts are drawn from anchor to anchor in the colour of their force: the pixel at the middle
+/// of each bolt's anchor-to-anchor segment (from connectors.csv's anchor columns, placed by the
+/// picture's own map) has the colour map's colour of its force in the legend's range, 0 to the
+/// largest force (20 kN and 50 kN pretension: the map's 0.4 and its top, red). The middles lie
+/// 0.3 m inside the rock, where a centroid-to-centroid line (the cap's centroid to the rock's)
+/// would not pass. The colour bar's top pixel row has the top colour too.
+#[test]
+fn bolts_are_drawn_anchor_to_anchor_in_the_colour_of_their_force() {
+    use pbdda::output::render::{Range, colour_map, connector_lines, render_view};
+    let dir = run_all("two_bolts", &two_bolts([2.0e4, 5.0e4], "", None), 2);
+    let lines = connector_lines(&dir, 2).expect("connector rows");
+    assert_eq!(lines.len(), 2);
+    for (l, p) in lines.iter().zip([2.0e4, 5.0e4]) {
+        assert!((l.force - p).abs() < 1e-3 * p, "bolt force {} keeps its pretension {p}", l.force);
+    }
+    let (png, view) = render_view(&dir, Some(2), &dir.join("bolts.png"), (800, 600)).expect("render");
+    let (w, _, px) = decode(&png);
+    let pixel = |(x, y): (i32, i32)| px[y as usize * w as usize + x as usize];
+    let range = Range::of(lines.iter().map(|l| l.force), Some(0.0));
+    assert_eq!((range.lo, range.hi), (0.0, lines[1].force));
+    for l in &lines {
+        let c = range.colour(l.force);
+        let mid = view.px((l.a + l.b) / 2.0);
+        assert_eq!(pixel(mid), [c.0, c.1, c.2], "bolt of {} N at its middle {mid:?}", l.force);
+    }
+    let top = colour_map(1.0);
+    assert_eq!([top.0, top.1, top.2], [210, 30, 30], "the map's top is red");
+    assert!(px.iter().any(|p| *p == [top.0, top.1, top.2]), "the colour bar is drawn");
+}
+
+/// The cap pulled off the rock by an upward g = 10 (52 kN per metre), static analysis with dt =
+/// 0.1 s (the mass term 2m/dt² = 1e6 N/m is 2 % of a bolt's EA/l = 4.2e7 N/m, so step 1 is
+/// near the static split, 26 kN per bolt): the second bolt, of strength 10 kN, breaks in step 1.
+/// In the pictures of step 1 and of step 2 (it broke before: drawn where it broke) its middle
+/// has the magenta cross of a broken bolt; the connector force plot marks the break with the same colour, and the plot of a
+/// run without a break has no pixel of it.
+#[test]
+fn broken_bolts_are_marked_in_render_and_plot() {
+    use pbdda::output::render::{BROKEN_MARK, connector_lines, render_view};
+    let dir = run_all(
+        "broken_bolt",
+        &two_bolts(
+            [0.0, 0.0],
+            "strength = 1.0e4",
+            Some("[time]\nstep = 0.1\nsteps = 2\n[physics]\ngravity = [0.0, 10.0]\nvelocity_carry = 0.0"),
+        ),
+        2,
+    );
+    let lines = connector_lines(&dir, 1).expect("connector rows");
+    assert_eq!(lines.iter().map(|l| l.broken).collect::<Vec<_>>(), [false, true]);
+    let (png, view) = render_view(&dir, Some(1), &dir.join("broken.png"), (800, 600)).expect("render");
+    let (w, _, px) = decode(&png);
+    let mid = view.px((lines[1].a + lines[1].b) / 2.0);
+    let mark = [BROKEN_MARK.0, BROKEN_MARK.1, BROKEN_MARK.2];
+    assert_eq!(px[mid.1 as usize * w as usize + mid.0 as usize], mark, "cross at the broken bolt's middle");
+    // at step 2 (no row: it broke before) it is still drawn, where it broke
+    let later = connector_lines(&dir, 2).expect("connector rows");
+    let broken: Vec<_> = later.iter().filter(|l| l.broken).collect();
+    assert_eq!((later.len(), broken.len()), (2, 1));
+    assert_eq!((broken[0].a, broken[0].b), (lines[1].a, lines[1].b));
+    let (png, view) = render_view(&dir, Some(2), &dir.join("broken_2.png"), (800, 600)).expect("render");
+    let (w, _, px) = decode(&png);
+    let mid = view.px((lines[1].a + lines[1].b) / 2.0);
+    assert_eq!(px[mid.1 as usize * w as usize + mid.0 as usize], mark, "cross at step 2");
+    let opts = PlotOptions { size: (640, 480), svg: false, ..PlotOptions::default() };
+    let plots = plot_results(&dir, &dir.join("plots"), &opts).expect("plots");
+    let forces = plots.iter().find(|p| p.ends_with("connector_forces.png")).expect("connector plot");
+    assert!(decode(forces).2.contains(&mark), "the break is marked");
+    let intact = run_all("intact_bolts", &two_bolts([2.0e4, 5.0e4], "", None), 2);
+    let plots = plot_results(&intact, &intact.join("plots"), &opts).expect("plots");
+    let forces = plots.iter().find(|p| p.ends_with("connector_forces.png")).expect("connector plot");
+    assert!(!decode(forces).2.contains(&mark), "no break, no mark");
+}
+
+/// Contacts are marked in the colour of their interface (the joint set): the cap's two corner
+/// contacts on the rock take the interface `joint` (contacts.csv), and the picture holds the
+/// first joint colour of render/overlays.rs, (230, 120, 0), which nothing else draws.
+#[test]
+fn joint_sets_are_coloured() {
+    let dir = run_all("joint_colour", &two_bolts([2.0e4, 5.0e4], "", None), 2);
+    let t = pbdda::output::results::Table::read(&dir.join("contacts.csv")).expect("contacts");
+    assert!(t.text("interface").unwrap().iter().all(|i| i == "joint"));
+    let png = render_step(&dir, None, &dir.join("joints.png"), (800, 600)).expect("render");
+    assert!(decode(&png).2.contains(&[230, 120, 0]), "joint colour drawn");
+}
+
+/// The meshed cantilever (examples/mesh_cantilever.toml on cantilever_1.msh) after 2 steps: the
+/// pixel at each element's centroid has the colour of its von Mises stress in the colour bar's
+/// range 0 to the step's largest (stresses from the step's .vtu; the elements are at least
+/// 20 px across at this size, their edges 1 px, so the centroid is inside the fill). The tip
+/// element under the load is coloured, not the plain fill of a deformable body.
+#[test]
+fn mesh_elements_are_drawn_with_a_stress_colour_map() {
+    use pbdda::output::render::{Range, elements, render_view};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/mesh_cantilever.toml");
+    let text = std::fs::read_to_string(&path).expect("example");
+    let dir = run_all("mesh_cantilever", &text, 2);
+    let els = elements(&dir, 2).expect("elements");
+    assert_eq!(els.len(), 86, "cantilever_1.msh has 86 triangles (meshes/reference.json)");
+    let (png, view) = render_view(&dir, Some(2), &dir.join("mesh.png"), (1000, 400)).expect("render");
+    let (w, _, px) = decode(&png);
+    let range = Range::of(els.iter().map(|e| e.von_mises), Some(0.0));
+    assert!(range.hi > 0.0);
+    for e in &els {
+        let (x, y) = view.px(e.corners.iter().sum::<pbdda::geometry::Vec2>() / 3.0);
+        let c = range.colour(e.von_mises);
+        assert_eq!(px[y as usize * w as usize + x as usize], [c.0, c.1, c.2], "element at ({x}, {y})");
+    }
+}

@@ -5,12 +5,12 @@
 //! solutions where the rows compare forces (statically determinate supports, §7.2 compares
 //! the reactions the paper's Table 2 gives), so forces are comparable across methods.
 
-use pbdda::cli::validate::{Row, rows_with};
+use pbdda::cli::validate::{Row, paper_rows_with};
 use pbdda::scene::Override;
 
 fn run(method: &str) -> Vec<Row> {
     let o = Override::parse(&format!("solver.method={method}")).expect("a valid override");
-    let rows = rows_with(&[o]).expect("every example runs");
+    let rows = paper_rows_with(&[o]).expect("every example runs");
     // 7.1: 3, 7.2: 4, 7.3/7.4: 4, 7.5: 4, 7.6: 3, 7.7: 5 x 3 + 2, 7.8: 6, 7.9: 9, 7.10: 3
     // (as tests/validate.rs)
     assert_eq!(rows.len(), 53);

@@ -264,6 +264,7 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
             "shear_force",
             "state",
             "axial_force",
+            "plastic_strain",
         ] {
             let per_cell = if ["velocity", "stress", "strain"].contains(&name) { 3 } else { 1 };
             assert_eq!(step.array(name).len(), per_cell * step.cells.len(), "{name} has a value per cell");
@@ -280,8 +281,22 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
                     num(t, row, "axial_force"),
                     "step {s} connector {k}"
                 );
-                let state = if row[t.col("state").unwrap()] == "intact" { 4.0 } else { 5.0 };
+                let state = match row[t.col("state").unwrap()].as_str() {
+                    "intact" => 4.0,
+                    "broken" => 5.0,
+                    "yielding" => 6.0,
+                    other => panic!("connector state {other}"),
+                };
                 assert_eq!(step.array("state")[cell], state, "step {s} connector {k} state");
+                let plastic = num(t, row, "plastic_strain");
+                assert_eq!(step.array("plastic_strain")[cell], plastic, "step {s} connector {k}");
+                // the line runs from anchor to anchor, as the CSV's anchor columns give them
+                let ends = [step.points[step.cells[cell][0]], step.points[step.cells[cell][1]]];
+                let anchors = [
+                    Vec2::new(num(t, row, "anchor_a_x"), num(t, row, "anchor_a_y")),
+                    Vec2::new(num(t, row, "anchor_b_x"), num(t, row, "anchor_b_y")),
+                ];
+                assert_eq!(ends, anchors, "step {s} connector {k}: line ends are the anchors");
             }
         }
         if triangles > 0 {
@@ -521,4 +536,106 @@ fn connector_and_mesh_hooks_write_readable_cells() {
     // the line's two points have none; node 2 (1, 1) moved by 1e-3 (1, 1)
     assert_eq!(&d[..6], &[0.0; 6]);
     assert_eq!(&d[3 * 4..3 * 5], &[1e-3, 1e-3, 0.0]);
+}
+
+/// A block (1 m x 1 m, density 1000: m g = 1e4 N per metre with g = 10) hangs from a fixed
+/// ceiling by one vertical bolt from (0, 0) on the ceiling to (0, -2) on the block's top
+/// (E = 200 GPa, A = 5e-4 m^2: EA/l = 5e7 N/m), with `extra` bolt keys. Static analysis
+/// (`velocity_carry = 0`) with dt = 0.1 s: the mass term 2m/dt² = 2e5 N/m is 0.4 % of EA/l, so
+/// step 1 already loads the bolt with 99.6 % of the weight.
+fn hanging_bolt(name: &str, extra: &str, steps: usize) -> (PathBuf, World) {
+    let text = format!(
+        r#"
+[scene]
+name = "{name}"
+[time]
+step = 0.1
+steps = {steps}
+[physics]
+gravity = [0.0, -10.0]
+velocity_carry = 0.0
+[[material]]
+name = "steel"
+density = 1000.0
+[[body]]
+name = "ceiling"
+shape = "polygon"
+vertices = [[-2.0, 0.0], [2.0, 0.0], [2.0, 1.0], [-2.0, 1.0]]
+material = "steel"
+fixed = true
+[[body]]
+name = "block"
+shape = "polygon"
+vertices = [[-0.5, -3.0], [0.5, -3.0], [0.5, -2.0], [-0.5, -2.0]]
+material = "steel"
+[[connector]]
+name = "bolt"
+kind = "bolt"
+points = [[0.0, 0.0], [0.0, -2.0]]
+bodies = ["ceiling", "block"]
+young = 2.0e11
+area = 5.0e-4
+{extra}
+"#
+    );
+    let model = pbdda::scene::parse(&text, "hanging.toml").unwrap_or_else(|e| panic!("{e:?}"));
+    run_model(name, model, steps, 1)
+}
+
+/// A bolt of strength 5 kN holding the 10 kN block breaks in step 1 (connectors.csv: one row,
+/// `broken`, at step 1, then none). Its line is in step 1's file only, with state 5 (the
+/// legend), the force it broke at (the CSV's `axial_force`, above the 5 kN strength) and its
+/// ends on the CSV's anchors; anchor a is on the fixed ceiling, so it is exactly the scene's
+/// (0, 0). Steps 2 and 3 have no connector cell (`check_run` counts the cells).
+#[test]
+fn broken_bolt_line_is_written_once_with_its_state() {
+    let (dir, world) = hanging_bolt("broken_bolt", "strength = 5.0e3", 3);
+    let steps = check_run(&dir, &world, &[1, 2, 3]);
+    let t = Table::read(&dir.join("connectors.csv")).expect("connectors.csv");
+    assert_eq!(t.rows.len(), 1, "one row: the break");
+    let row = &t.rows[0].1;
+    assert_eq!(
+        (row[t.col("step").unwrap()].as_str(), row[t.col("state").unwrap()].as_str()),
+        ("1", "broken")
+    );
+    let force = num(&t, row, "axial_force");
+    assert!(force > 5e3, "broke above its strength: {force}");
+    let cell = world.bodies.len() + rows_at(&Table::read(&dir.join("contacts.csv")).unwrap(), 1).len();
+    assert_eq!(steps[0].array("state")[cell], 5.0);
+    assert_eq!(steps[0].array("axial_force")[cell], force);
+    assert_eq!(steps[0].points[steps[0].cells[cell][0]], Vec2::new(0.0, 0.0));
+    assert_eq!(steps[1].cells.len(), steps[0].cells.len() - 1, "no line after the break");
+}
+
+/// A bolt with yield force 5 kN under the 10 kN block yields from step 1 and stays at its yield
+/// force while the block falls (math note §6.1: the active set holds N = Y exactly; 1e-6
+/// relative for the solver), its plastic strain growing: each step's line has state 6, the
+/// CSV's force and plastic strain, and runs from the fixed anchor (0, 0) to the block's anchor,
+/// whose drop below (0, -2) is the block centre's drop (the block does not turn: the bolt and
+/// gravity act on one vertical line through its centroid; 1e-12 m).
+#[test]
+fn yielding_bolt_line_carries_state_and_plastic_strain() {
+    let (dir, world) = hanging_bolt("yielding_bolt", "yield_force = 5.0e3", 3);
+    let steps = check_run(&dir, &world, &[1, 2, 3]);
+    let t = Table::read(&dir.join("connectors.csv")).expect("connectors.csv");
+    assert_eq!(t.rows.len(), 3);
+    let mut last_plastic = 0.0;
+    for (k, (_, row)) in t.rows.iter().enumerate() {
+        assert_eq!(row[t.col("state").unwrap()], "yielding", "step {}", k + 1);
+        let n = num(&t, row, "axial_force");
+        assert!((n - 5e3).abs() <= 1e-6 * 5e3, "step {}: force {n}", k + 1);
+        let plastic = num(&t, row, "plastic_strain");
+        assert!(plastic > last_plastic, "step {}: plastic strain {plastic} grows", k + 1);
+        last_plastic = plastic;
+    }
+    let contacts = Table::read(&dir.join("contacts.csv")).unwrap();
+    let bodies = Table::read(&dir.join("bodies.csv")).unwrap();
+    for (k, step) in steps.iter().enumerate() {
+        let cell = world.bodies.len() + rows_at(&contacts, k + 1).len();
+        assert_eq!(step.array("state")[cell], 6.0);
+        let ends = [step.points[step.cells[cell][0]], step.points[step.cells[cell][1]]];
+        assert_eq!(ends[0], Vec2::new(0.0, 0.0));
+        let drop = -2.5 - num(&bodies, &rows_at(&bodies, k + 1)[1], "y");
+        assert!((ends[1] - Vec2::new(0.0, -2.0 - drop)).norm() < 1e-12, "step {}: {:?}", k + 1, ends[1]);
+    }
 }

@@ -3,7 +3,9 @@
 //! `broken`, with the axial force it broke at; it transmits nothing in the step it breaks in),
 //! then no longer. The row of the step in which a connector breaks or starts to yield is written
 //! whatever `[output] every` is. A bolt's `plastic_strain` is its accumulated plastic strain
-//! (math note §6.1; empty for other kinds).
+//! (math note §6.1; empty for other kinds). `anchor_a_x` .. `anchor_b_y` are the anchors'
+//! positions in the current configuration (where the bodies are at the end of the step, for a
+//! broken connector the step it broke in): the line to draw the connector on.
 
 use super::csv::{Num, OutputError};
 use super::rows::RowFile;
@@ -14,7 +16,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 pub const FILE: &str = "connectors.csv";
-const HEADER: &str = "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain";
+const HEADER: &str = "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain,anchor_a_x,anchor_a_y,anchor_b_x,anchor_b_y";
 
 pub struct ConnectorWriter {
     path: PathBuf,
@@ -93,7 +95,7 @@ fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::R
     let plastic = c.strain().map(|_| c.plastic_strain);
     writeln!(
         w,
-        "{},{},{},{},{},{},{},{},{},{},{},{state},{}",
+        "{},{},{},{},{},{},{},{},{},{},{},{state},{},{},{},{},{}",
         rec.step,
         Num(rec.time),
         c.name,
@@ -106,5 +108,9 @@ fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::R
         opt(moments.map(|m| m[0])),
         opt(moments.map(|m| m[1])),
         opt(plastic),
+        Num(c.anchors[0].x),
+        Num(c.anchors[0].y),
+        Num(c.anchors[1].x),
+        Num(c.anchors[1].y),
     )
 }

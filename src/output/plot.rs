@@ -1,6 +1,7 @@
 //! `pbdda plot`: PNG and SVG figures from a results folder (finished or still running):
 //! monitor paths and displacement histories, contact force histories of chosen bodies,
-//! connector force histories, kinetic energy, solver iterations and residual per step.
+//! connector force histories (a connector's break marked by a cross at the force it broke
+//! at), kinetic energy, solver iterations and residual per step.
 //!
 //! Drawn with `plotters` on its pure-Rust bitmap and SVG backends; text uses the vendored
 //! DejaVu Sans (`assets/fonts`, Bitstream Vera licence) through `ab_glyph`, so no system
@@ -54,7 +55,13 @@ pub struct Panel {
     pub x_label: String,
     pub y_label: String,
     pub series: Vec<Series>,
+    /// Points marked by a cross in [`BROKEN_MARK`] with the key "broken" (connectors at the
+    /// step they broke in, at the force they broke at).
+    pub broken: Vec<(f64, f64)>,
 }
+
+/// Colour of the broken-connector crosses (as in `pbdda render`).
+pub use super::render::BROKEN_MARK;
 
 type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
@@ -99,8 +106,10 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
 where
     DB::ErrorType: 'static,
 {
-    let (x0, x1) = range(&panel.series, |p| p.0);
-    let (y0, y1) = range(&panel.series, |p| p.1);
+    let marked = [(String::new(), panel.broken.clone())];
+    let all: Vec<Series> = panel.series.iter().chain(&marked).cloned().collect();
+    let (x0, x1) = range(&all, |p| p.0);
+    let (y0, y1) = range(&all, |p| p.1);
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 22))
         .margin(12)
@@ -122,7 +131,23 @@ where
             .label(name.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
     }
-    if panel.series.iter().any(|(n, _)| !n.is_empty()) {
+    if !panel.broken.is_empty() {
+        let cross = |(x, y): (i32, i32)| {
+            let s = BROKEN_MARK.stroke_width(3);
+            EmptyElement::at((x, y))
+                + PathElement::new(vec![(-7, -7), (7, 7)], s)
+                + PathElement::new(vec![(-7, 7), (7, -7)], s)
+        };
+        chart
+            .draw_series(panel.broken.iter().map(|&(x, y)| {
+                EmptyElement::at((x, y))
+                    + PathElement::new(vec![(-7, -7), (7, 7)], BROKEN_MARK.stroke_width(3))
+                    + PathElement::new(vec![(-7, 7), (7, -7)], BROKEN_MARK.stroke_width(3))
+            }))?
+            .label("broken")
+            .legend(move |(x, y)| cross((x + 10, y)));
+    }
+    if panel.series.iter().any(|(n, _)| !n.is_empty()) || !panel.broken.is_empty() {
         chart
             .configure_series_labels()
             .label_font(("sans-serif", 14))
@@ -172,7 +197,7 @@ pub fn write_figure(
 }
 
 fn panel(title: &str, x: &str, y: &str, series: Vec<Series>) -> Panel {
-    Panel { title: title.into(), x_label: x.into(), y_label: y.into(), series }
+    Panel { title: title.into(), x_label: x.into(), y_label: y.into(), series, broken: Vec::new() }
 }
 
 /// Writes every figure the folder's data allow into `out` (created if missing); returns the
@@ -319,11 +344,12 @@ fn connector_figure(t: &Table, out: &Path, opts: &PlotOptions) -> Result<Vec<Pat
     if t.rows.is_empty() {
         return Ok(Vec::new());
     }
-    let (time, axial) = (t.numbers("time")?, t.numbers("axial_force")?);
+    let (time, axial, state) = (t.numbers("time")?, t.numbers("axial_force")?, t.text("state")?);
     let series = grouped(t, "connector")?
         .into_iter()
         .map(|(name, rows)| (name, rows.iter().map(|&i| (time[i], axial[i])).collect()))
         .collect();
-    let p = panel("Connector axial forces (tension positive)", "time [s]", "axial force [N]", series);
+    let mut p = panel("Connector axial forces (tension positive)", "time [s]", "axial force [N]", series);
+    p.broken = (0..time.len()).filter(|&i| state[i] == "broken").map(|i| (time[i], axial[i])).collect();
     write_figure(out, "connector_forces", &[p], opts)
 }

@@ -224,6 +224,8 @@ pub struct ContactRow {
     pub shear_force: f64,
     pub gap: f64,
     pub state: String,
+    /// The interface whose law the contact takes (empty: unnamed, or a file without the column).
+    pub interface: String,
 }
 
 /// Step numbers of a table's `step` column.
@@ -281,6 +283,7 @@ pub fn contact_rows(t: &Table) -> Result<Vec<ContactRow>, ResultsError> {
     let (x, y, nx, ny) = (t.numbers("x")?, t.numbers("y")?, t.numbers("nx")?, t.numbers("ny")?);
     let (pn, pt, gap, state) =
         (t.numbers("normal_force")?, t.numbers("shear_force")?, t.numbers("gap")?, t.text("state")?);
+    let interface = t.text("interface").unwrap_or_else(|_| vec![String::new(); steps.len()]);
     Ok((0..steps.len())
         .map(|i| ContactRow {
             step: steps[i],
@@ -293,6 +296,7 @@ pub fn contact_rows(t: &Table) -> Result<Vec<ContactRow>, ResultsError> {
             shear_force: pt[i],
             gap: gap[i],
             state: state[i].clone(),
+            interface: interface[i].clone(),
         })
         .collect())
 }

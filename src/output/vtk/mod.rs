@@ -23,23 +23,29 @@
 //! Cell data (units as in the CSVs): `body` (index; body A for a contact, B in `body_b`),
 //! `body_b` (−1 for bodies), `kind`, `velocity` (vx, vy, 0), `angular_velocity`, `rotation`,
 //! `stress` and `strain` (xx, yy, xy; zero for rigid bodies and lines), `normal_force`,
-//! `shear_force`, `axial_force` (zero where they do not apply) and `state`. Codes:
+//! `shear_force`, `axial_force`, `plastic_strain` (zero where they do not apply) and `state`.
+//! A connector's line joins its two anchors in the current configuration (the `anchor_a_*`,
+//! `anchor_b_*` columns of `connectors.csv`); its `axial_force`, `state` and `plastic_strain` are
+//! that file's columns of the same row (a broken connector's line is written once, at the step it
+//! broke in, with the force it broke at). Codes:
 //!
 //! | array | code |
 //! |---|---|
 //! | `kind` | 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB, 13 LL, 14 PL, 15 BL contact, 20 connector, 30 mesh triangle |
-//! | `state` | −1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken connector |
+//! | `state` | −1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken, 6 yielding connector |
 //!
 //! The legend is repeated as a comment in `scene.pvd`.
 
-use super::csv::OutputError;
 use crate::body::{Body, Outline};
+use crate::connector::Connector;
 use crate::contact::ContactKind;
 use crate::geometry::Vec2;
 use crate::world::{ContactState, StepRecord, World};
-use std::fs::{self, File};
-use std::io::{BufWriter, Write};
-use std::path::{Path, PathBuf};
+
+mod writer;
+mod xml;
+
+pub use writer::VtkWriter;
 
 /// VTK cell type codes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,8 +59,9 @@ enum CellType {
 pub const CIRCLE_SEGMENTS: usize = 64;
 
 /// Legend of the `kind` and `state` codes (also written into `scene.pvd`).
-pub const LEGEND: &str = "kind: 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB contact, \
-20 connector, 30 mesh triangle; state: -1 body, 0 open, 1 stick, 2 slide, 3 bonded, 4 intact, 5 broken";
+pub const LEGEND: &str = "kind: 0 rigid body, 1 deformable body, 2 fixed body, 10 PP, 11 PB, 12 BB, 13 LL, \
+14 PL, 15 BL contact, 20 connector, 30 mesh triangle; state: -1 body, 0 open, 1 stick, 2 slide, 3 bonded, \
+4 intact, 5 broken, 6 yielding connector";
 
 /// `kind` code of a body.
 pub fn body_kind(b: &Body) -> i32 {
@@ -104,10 +111,11 @@ pub struct CellValues {
     pub normal_force: f64,
     pub shear_force: f64,
     pub axial_force: f64,
+    pub plastic_strain: f64,
 }
 
 /// A line cell for [`add_lines`] (connectors): end points and the values of the line
-/// (`axial_force` tension-positive, `state` 4 intact or 5 broken, `kind` 20).
+/// (`axial_force` tension-positive, `state` 4 intact, 5 broken or 6 yielding, `kind` 20).
 #[derive(Debug, Clone, Copy)]
 pub struct LineCell {
     pub a: Vec2,
@@ -303,148 +311,6 @@ pub fn add_mesh(grid: &mut Grid, mesh: &MeshCells) {
     }
 }
 
-/// One data array of a `.vtu` file: its XML attributes and its values, appended raw.
-struct Array<'a> {
-    name: &'a str,
-    components: usize,
-    values: Values<'a>,
-}
-
-enum Values<'a> {
-    F64(std::borrow::Cow<'a, [f64]>),
-    I32(Vec<i32>),
-    /// Point ids and offsets: Int32 while every value fits (half the bytes), else Int64.
-    Ids(&'a [u64], bool),
-    U8(Vec<u8>),
-}
-
-impl Values<'_> {
-    fn vtk_type(&self) -> &'static str {
-        match self {
-            Values::F64(_) => "Float64",
-            Values::I32(_) => "Int32",
-            Values::Ids(_, true) => "Int64",
-            Values::Ids(_, false) => "Int32",
-            Values::U8(_) => "UInt8",
-        }
-    }
-
-    /// Size of the data in bytes.
-    fn bytes(&self) -> usize {
-        match self {
-            Values::F64(v) => 8 * v.len(),
-            Values::I32(v) => 4 * v.len(),
-            Values::Ids(v, wide) => (if *wide { 8 } else { 4 }) * v.len(),
-            Values::U8(v) => v.len(),
-        }
-    }
-
-    /// The block of the appended data: its size (UInt64), then its values, little-endian,
-    /// base64-encoded together as one stream (padded at the block's end).
-    fn write(&self, w: &mut impl Write, buf: &mut Vec<u8>) -> std::io::Result<()> {
-        let mut w = base64::write::EncoderWriter::new(w, &base64::engine::general_purpose::STANDARD);
-        self.write_raw(&mut w, buf)?;
-        w.finish().map(|_| ())
-    }
-
-    fn write_raw(&self, w: &mut impl Write, buf: &mut Vec<u8>) -> std::io::Result<()> {
-        w.write_all(&(self.bytes() as u64).to_le_bytes())?;
-        match self {
-            Values::F64(v) => write_le(w, buf, v, |x| x.to_le_bytes()),
-            Values::I32(v) => write_le(w, buf, v, |x| x.to_le_bytes()),
-            Values::Ids(v, true) => write_le(w, buf, v, |x| (x as i64).to_le_bytes()),
-            Values::Ids(v, false) => write_le(w, buf, v, |x| (x as i32).to_le_bytes()),
-            Values::U8(v) => w.write_all(v),
-        }
-    }
-}
-
-/// Writes `values` as little-endian bytes, a few thousand at a time through `buf`.
-fn write_le<T: Copy, const N: usize>(
-    w: &mut impl Write,
-    buf: &mut Vec<u8>,
-    values: &[T],
-    bytes: impl Fn(T) -> [u8; N],
-) -> std::io::Result<()> {
-    for chunk in values.chunks(4096) {
-        buf.clear();
-        chunk.iter().for_each(|&x| buf.extend_from_slice(&bytes(x)));
-        w.write_all(buf)?;
-    }
-    Ok(())
-}
-
-impl Grid {
-    /// Writes the grid as a VTK XML UnstructuredGrid (`.vtu`) with its data appended raw: the
-    /// cell data of the module notes, the points' `displacement` once a mesh is added.
-    pub fn write_vtu(&self, w: &mut impl Write) -> std::io::Result<()> {
-        let c = &self.cells;
-        let ints = |f: fn(&CellValues) -> i32| Values::I32(c.iter().map(f).collect());
-        let reals = |f: fn(&CellValues) -> f64| Values::F64(c.iter().map(f).collect());
-        let triple = |f: fn(&CellValues) -> [f64; 3]| Values::F64(c.iter().flat_map(f).collect());
-        let array = |name, components, values| Array { name, components, values };
-        let cell = [
-            array("body", 1, ints(|v| v.body)),
-            array("body_b", 1, ints(|v| v.body_b)),
-            array("kind", 1, ints(|v| v.kind)),
-            array("state", 1, ints(|v| v.state)),
-            array("velocity", 3, triple(|v| [v.velocity[0], v.velocity[1], 0.0])),
-            array("angular_velocity", 1, reals(|v| v.angular_velocity)),
-            array("rotation", 1, reals(|v| v.rotation)),
-            array("stress", 3, triple(|v| v.stress)),
-            array("strain", 3, triple(|v| v.strain)),
-            array("normal_force", 1, reals(|v| v.normal_force)),
-            array("shear_force", 1, reals(|v| v.shear_force)),
-            array("axial_force", 1, reals(|v| v.axial_force)),
-        ];
-        let point: Vec<Array> =
-            self.displacement.iter().map(|d| array("displacement", 3, Values::F64(d.into()))).collect();
-        let points = [array("Points", 3, Values::F64((&self.points[..]).into()))];
-        // every id is below the point count, every offset at most the connectivity's length
-        let wide = self.num_points().max(self.connectivity.len()) > i32::MAX as usize;
-        let cells = [
-            array("connectivity", 1, Values::Ids(&self.connectivity, wide)),
-            array("offsets", 1, Values::Ids(&self.offsets, wide)),
-            array("types", 1, Values::U8(self.types.iter().map(|&t| t as u8).collect())),
-        ];
-        let (np, nc) = (self.num_points(), self.num_cells());
-        writeln!(w, "<?xml version=\"1.0\"?>")?;
-        writeln!(
-            w,
-            "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
-        )?;
-        writeln!(w, "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{np}\" NumberOfCells=\"{nc}\">")?;
-        let mut offset = 0;
-        let sections: [(&str, &str, &[Array]); 4] = [
-            ("PointData", if point.is_empty() { "" } else { " Vectors=\"displacement\"" }, &point),
-            ("CellData", " Scalars=\"body\" Vectors=\"velocity\"", &cell),
-            ("Points", "", &points),
-            ("Cells", "", &cells),
-        ];
-        for (tag, active, arrays) in sections {
-            writeln!(w, "      <{tag}{active}>")?;
-            for a in arrays {
-                let (ty, name, n) = (a.values.vtk_type(), a.name, a.components);
-                writeln!(
-                    w,
-                    "        <DataArray type=\"{ty}\" Name=\"{name}\" NumberOfComponents=\"{n}\" format=\"appended\" offset=\"{offset}\"/>"
-                )?;
-                offset += (8 + a.values.bytes()).div_ceil(3) * 4;
-            }
-            writeln!(w, "      </{tag}>")?;
-        }
-        writeln!(w, "    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"base64\">")?;
-        w.write_all(b"_")?;
-        let mut buf = Vec::with_capacity(8 * 4096);
-        for (_, _, arrays) in sections {
-            for a in arrays {
-                a.values.write(w, &mut buf)?;
-            }
-        }
-        writeln!(w, "\n  </AppendedData>\n</VTKFile>")
-    }
-}
-
 /// The grid of a step (bodies, then contact lines, connectors and meshes), into `grid`.
 pub fn step_grid(grid: &mut Grid, world: &World, rec: &StepRecord) {
     grid.clear();
@@ -458,26 +324,40 @@ pub fn step_grid(grid: &mut Grid, world: &World, rec: &StepRecord) {
     }
 }
 
-/// The connectors as line cells between their anchors: intact ones, and those that broke in
-/// this step (as in `connectors.csv`).
+/// The connectors as line cells between their current anchors: intact ones, and those that
+/// broke in this step (the rows of `connectors.csv`, with its values).
 pub fn connector_lines(world: &World, step: usize) -> Vec<LineCell> {
     world
         .connectors
         .iter()
         .filter(|c| !c.broken || c.broken_at == Some(step))
-        .map(|c| LineCell {
-            a: c.anchors[0],
-            b: c.anchors[1],
-            values: CellValues {
-                body: c.bodies[0] as i32,
-                body_b: c.bodies[1] as i32,
-                kind: 20,
-                state: if c.broken { 5 } else { 4 },
-                axial_force: if c.broken { 0.0 } else { c.axial_force() },
-                ..CellValues::default()
-            },
-        })
+        .map(|c| LineCell { a: c.anchors[0], b: c.anchors[1], values: connector_values(c) })
         .collect()
+}
+
+/// `state` code of a connector: 4 intact, 5 broken, 6 yielding.
+pub fn connector_state(c: &Connector) -> i32 {
+    if c.broken {
+        5
+    } else if c.is_yielding() {
+        6
+    } else {
+        4
+    }
+}
+
+/// A connector's cell values: those of its `connectors.csv` row (the force it broke at for a
+/// broken one; plastic strain zero for kinds other than bolts).
+fn connector_values(c: &Connector) -> CellValues {
+    CellValues {
+        body: c.bodies[0] as i32,
+        body_b: c.bodies[1] as i32,
+        kind: 20,
+        state: connector_state(c),
+        axial_force: if c.broken { c.broke_with.unwrap_or(0.0) } else { c.axial_force() },
+        plastic_strain: c.strain().map_or(0.0, |_| c.plastic_strain),
+        ..CellValues::default()
+    }
 }
 
 /// The cells of a mesh body (math note §9): its triangles on the current nodes, the nodes'
@@ -491,109 +371,5 @@ pub fn mesh_cells(body: usize, fe: &crate::mesh::body::MeshBody) -> MeshCells {
         triangles: fe.triangles.clone(),
         stress: fe.stress.iter().map(triple).collect(),
         strain: fe.strain.iter().map(triple).collect(),
-    }
-}
-
-/// Writes `DIR/vtk/` as the run goes.
-pub struct VtkWriter {
-    dir: PathBuf,
-    every: usize,
-    last_step: usize,
-    /// (time, file name) of the written steps.
-    written: Vec<(f64, String)>,
-    /// The last step's grid, whose storage the next one reuses.
-    grid: Grid,
-}
-
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> OutputError + '_ {
-    move |source| OutputError::Io { path: path.to_path_buf(), source }
-}
-
-impl VtkWriter {
-    /// Creates `DIR/vtk/` and removes the `.vtu`/`.pvd` files of an earlier run in it (call
-    /// after [`super::csv::CsvWriter::create`], which refuses to mix runs unless told to
-    /// overwrite). Writes the empty time series.
-    pub fn create(dir: &Path, world: &World) -> Result<VtkWriter, OutputError> {
-        let dir = dir.join("vtk");
-        fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-        for entry in fs::read_dir(&dir).map_err(io_err(&dir))? {
-            let path = entry.map_err(io_err(&dir))?.path();
-            let ours = path.extension().is_some_and(|e| e == "vtu" || e == "pvd" || e == "tmp");
-            if ours {
-                fs::remove_file(&path).map_err(io_err(&path))?;
-            }
-        }
-        let out = &world.model.output;
-        let w = VtkWriter {
-            dir,
-            every: out.every.max(1),
-            last_step: world.model.time.steps,
-            written: vec![],
-            grid: Grid::default(),
-        };
-        w.write_pvd()?;
-        Ok(w)
-    }
-
-    /// Path of the time series file.
-    pub fn pvd_path(&self) -> PathBuf {
-        self.dir.join("scene.pvd")
-    }
-
-    /// Writes the step's `.vtu` on every N-th and the last step (as the CSVs), then the
-    /// updated `.pvd`.
-    pub fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
-        let s = rec.step;
-        if !self.writes(s) {
-            return Ok(());
-        }
-        let mut grid = std::mem::take(&mut self.grid);
-        step_grid(&mut grid, world, rec);
-        let name = format!("step_{s:06}.vtu");
-        let written = self.write_vtu(&grid, &name);
-        self.grid = grid;
-        written?;
-        self.written.push((rec.time, name));
-        self.write_pvd()
-    }
-
-    /// Makes `step` the last step, always written (a run whose last stage ended early).
-    pub fn finish_at(&mut self, step: usize) {
-        self.last_step = step;
-    }
-
-    /// Whether step `step` gets a file: every `every`-th step and the last.
-    pub fn writes(&self, step: usize) -> bool {
-        super::written(step, self.every, self.last_step)
-    }
-
-    fn write_vtu(&self, grid: &Grid, name: &str) -> Result<(), OutputError> {
-        let path = self.dir.join(name);
-        let tmp = self.dir.join(format!("{name}.tmp"));
-        let file = File::create(&tmp).map_err(io_err(&tmp))?;
-        let mut w = BufWriter::with_capacity(1 << 16, file);
-        grid.write_vtu(&mut w).map_err(io_err(&tmp))?;
-        w.flush().map_err(io_err(&tmp))?;
-        fs::rename(&tmp, &path).map_err(io_err(&path))
-    }
-
-    /// The collection file, written to a temporary file and renamed (atomic on one file
-    /// system), so a reader never sees a half-written index.
-    fn write_pvd(&self) -> Result<(), OutputError> {
-        let path = self.pvd_path();
-        let tmp = self.dir.join("scene.pvd.tmp");
-        let mut text = String::from("<?xml version=\"1.0\"?>\n");
-        text.push_str(&format!("<!-- pbdda time series; {LEGEND} -->\n"));
-        text.push_str("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n");
-        text.push_str("  <Collection>\n");
-        for (t, name) in &self.written {
-            text.push_str(&format!(
-                "    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{name}\"/>\n",
-                super::csv::Num(*t)
-            ));
-        }
-        text.push_str("  </Collection>\n</VTKFile>\n");
-        fs::write(&tmp, text).map_err(io_err(&tmp))?;
-        fs::rename(&tmp, &path).map_err(io_err(&path))
     }
 }
