@@ -194,6 +194,7 @@ fn warning_kind(w: &Warning) -> &'static str {
         Warning::Trouble { trouble: Trouble::Penetration { .. }, .. } => "penetration",
         Warning::Trouble { trouble: Trouble::MovedTooFar { .. }, .. } => "moved beyond the contact threshold",
         Warning::Trouble { .. } => "numerical trouble",
+        Warning::StopsDropped { .. } => "friction stops dropped",
     }
 }
 

@@ -71,6 +71,9 @@ pub struct Settings {
     /// they were about 8 % of a warm step. The contact memory is made on every step either way,
     /// so the motion does not depend on it.
     pub contact_records: bool,
+    /// Solve 2 holds the friction rows whose slip solve 1 stops (math note §10.15, "Friction
+    /// stops"); off: the velocity of a friction-stopped body rings (a measurement switch).
+    pub friction_stops: bool,
 }
 
 impl Default for Settings {
@@ -82,6 +85,7 @@ impl Default for Settings {
             cold_tightening: 1e-2,
             aim: crate::vi::AIM,
             contact_records: true,
+            friction_stops: true,
         }
     }
 }

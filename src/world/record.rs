@@ -80,6 +80,9 @@ pub enum Warning {
     Penetration { step: usize, body_a: String, body_b: String, depth: f64 },
     /// What would have failed the step with `[time] adaptive = true` (math note §10.8).
     Trouble { step: usize, trouble: super::Trouble },
+    /// Solve 2 with the friction stops of math note §10.15 missed its tolerance (`residual`
+    /// after `iterations`) and was solved again without them.
+    StopsDropped { step: usize, residual: f64, iterations: usize },
 }
 
 impl fmt::Display for Warning {
@@ -93,6 +96,11 @@ impl fmt::Display for Warning {
                 write!(f, "step {step}: bodies {body_a} and {body_b} penetrate by {depth:.3e} m")
             }
             Warning::Trouble { step, trouble } => write!(f, "step {step}: {trouble}"),
+            Warning::StopsDropped { step, residual, iterations } => write!(
+                f,
+                "step {step}: solve 2 with friction stops did not converge (residual {residual:.3e} after \
+                 {iterations} iterations); solved without them, so a body friction stopped may keep a velocity"
+            ),
         }
     }
 }

@@ -282,13 +282,32 @@ impl World {
         let targets = self.velocity_targets(found, rows2.as_ref().unwrap_or(&rows), &laws, &state);
         let (z2, dp2) = if rows2.is_some() || state.velocity || targets.is_some() {
             let solve2 = rows2.as_ref().unwrap_or(&rows);
-            let mut q2 = velocity_gaps(brief, &solve2.q, &state);
-            if let Some(t) = &targets {
-                q2.iter_mut().zip(t).for_each(|(q, t)| *q += t);
-            }
+            let plain = velocity_gaps(brief, &solve2.q, &state);
+            let offset = |o: &[f64]| plain.iter().zip(o).map(|(q, o)| q + o).collect::<Vec<f64>>();
+            let q2 = targets.as_ref().map_or_else(|| plain.clone(), |t| offset(&t.offsets));
             let mut z2 = z1.clone();
             let again = rows2.is_none() && product;
+            let (warned, report) = (runner.warnings.len(), runner.report);
             runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
+            // a solve 2 with friction stops that misses: solved again without them (§10.15)
+            let missed = runner.warnings.len() > warned;
+            let fallback = targets.as_ref().filter(|t| missed && !t.stops.is_empty());
+            if let Some(t) = fallback {
+                let (step, spent) = (runner.step, runner.report.inner_iterations - report.inner_iterations);
+                let residual = runner.report.residual;
+                runner.warnings.truncate(warned);
+                runner.report = vi::Report { inner_iterations: runner.report.inner_iterations, ..report };
+                runner.warnings.push(Warning::StopsDropped { step, residual, iterations: spent });
+                z2.copy_from_slice(&z1);
+                match t.without_stops() {
+                    Some(o) => {
+                        runner.run(self, &laws, solve2, &offset(&o), &mut z2, SolveKind::Velocity, false)
+                    }
+                    // solve 2 without offsets is solve 1 when nothing else changed its gaps
+                    None if rows2.is_none() && !state.velocity => None,
+                    None => runner.run(self, &laws, solve2, &plain, &mut z2, SolveKind::Velocity, false),
+                };
+            }
             // z1 kept bit for bit on solve 1's rows: its response is dp1
             let same = rows2.is_none() && z2.iter().zip(&z1).all(|(a, b)| a.to_bits() == b.to_bits());
             let dp2 = (!same).then(|| self.response(solve2, &z2, None));

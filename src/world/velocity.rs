@@ -1,11 +1,11 @@
 //! The velocity targets of solve 2 (math note §10.15): Newton's coefficient of restitution on
-//! closing contacts.
+//! closing contacts, and friction rows that stop their slip.
 //!
 //! The velocity of a step is v1 = 2 d/dt − v0 (§1.1), d the answer of solve 2. A row r of the
 //! contact Jacobian B measures the rate u = B_r v; a row that solve 2 holds at G_r = 0 ends with
 //! B_r d = −o_r for its gap offset o_r, so that u1 = −2 o_r/dt − u0. The offset
 //! o_r = −(1 − e) u0 dt/2 therefore makes u1 = −e u0: Newton's law with coefficient e on a
-//! closing normal row.
+//! closing normal row, and e = 0 (u1 = 0) on a friction row that sticks.
 
 use super::World;
 use super::detect::Detected;
@@ -13,23 +13,44 @@ use super::rows::Rows;
 use super::solve::Classified;
 use crate::contact::law::Law;
 
+/// The offsets solve 2 adds to its gaps (math note §10.15).
+pub(super) struct Targets {
+    /// Per row of solve 2: restitution and friction-stop offsets together.
+    pub offsets: Vec<f64>,
+    /// The friction rows among them (a stopping slip); [`Targets::without_stops`] drops them.
+    pub stops: Vec<usize>,
+}
+
+impl Targets {
+    /// The offsets without the friction stops (the fallback of math note §10.15), `None` when
+    /// no offset is left.
+    pub fn without_stops(&self) -> Option<Vec<f64>> {
+        let mut o = self.offsets.clone();
+        self.stops.iter().for_each(|&r| o[r] = 0.0);
+        o.iter().any(|&x| x != 0.0).then_some(o)
+    }
+}
+
 impl World {
     /// Per row of `rows` (those of solve 2), the offset solve 2 adds to its gap (math note
     /// §10.15), or `None` when every offset is zero (then nothing changes, bit for bit):
     /// - every row of an impacting contact: −(1 − e) u0 dt/2, e its restitution;
     /// - the normal row of a closed contact that is not impacting and approaches faster than
-    ///   the allowance per step: −(1 − e) u0 dt/2.
-    ///
-    /// Friction rows of persistent contacts get none (math note §10.15, "Friction stops").
+    ///   the allowance per step: −(1 − e) u0 dt/2;
+    /// - a tangential or rolling row of such a contact whose rate solve 1 stops or reverses
+    ///   (u0 u1 <= 0 with u1 = 2 G_r/dt − u0, G_r its end gap) and whose |u0| dt is above the
+    ///   allowance: −u0 dt/2 (the stick of a stopping slip is an impact with e = 0).
     pub(super) fn velocity_targets(
         &self,
         found: &Detected,
         rows: &Rows,
         laws: &[Law],
         state: &Classified,
-    ) -> Option<Vec<f64>> {
-        // every contact elastic (the default): no offset, and no rates to compute
-        if laws.iter().all(|l| l.restitution >= 1.0) {
+    ) -> Option<Targets> {
+        // no tangential force can stop a slip and every contact is elastic: no rates to compute
+        let holds = |l: &Law| l.friction > 0.0 || l.rolling > 0.0 || l.cohesion > 0.0 || l.bonded;
+        let stops = self.settings.friction_stops && laws.iter().any(holds);
+        if !stops && laws.iter().all(|l| l.restitution >= 1.0) {
             return None;
         }
         let (h, noise) = (self.h, self.allowance);
@@ -40,14 +61,10 @@ impl World {
         let v0 = self.start_velocities();
         let mut u0 = vec![0.0; rows.q.len()];
         rows.jac().apply(&v0, &mut u0);
-        let mut offsets = vec![0.0; rows.q.len()];
-        let mut any = false;
+        let mut t = Targets { offsets: vec![0.0; rows.q.len()], stops: Vec::new() };
         for (k, c) in found.brief.iter().enumerate().filter(|&(k, _)| state.closed[k]) {
             let (r, e) = (c.row(), laws[k].restitution);
-            let mut target = |row: usize, e: f64| {
-                offsets[row] = -(1.0 - e) * u0[row] * h / 2.0;
-                any = true;
-            };
+            let mut target = |row: usize, e: f64| t.offsets[row] = -(1.0 - e) * u0[row] * h / 2.0;
             if state.impacting_rows[r] {
                 if e < 1.0 {
                     c.rows().for_each(|row| target(row, e));
@@ -57,8 +74,16 @@ impl World {
             if e < 1.0 && u0[r] * h < -noise {
                 target(r, e);
             }
+            for row in (r + 1..c.rows().end).filter(|_| self.settings.friction_stops) {
+                let u = u0[row];
+                let u1 = 2.0 * state.gaps[row] / h - u;
+                if (u * h).abs() > noise && u * u1 <= 0.0 {
+                    target(row, 0.0);
+                    t.stops.push(row);
+                }
+            }
         }
-        any.then_some(offsets)
+        t.offsets.iter().any(|&x| x != 0.0).then_some(t)
     }
 
     /// v0 of the coming step as a global DOF vector ([`World::v0`]; a mesh's per node).

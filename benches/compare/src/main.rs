@@ -19,6 +19,12 @@
 //! for STEPS steps with the default method at tolerance TOL (1e-6) and reports every step
 //! that did not converge, the iterations per step and the kinetic energy: the long-run check
 //! of issue 10's "no unconverged step" (the table above covers 20 steps).
+//!
+//! `cargo run --release -- moving [quick]` and `-- trade`: the moving scenes of issue 55 and
+//! their speed/accuracy trade (`moving.rs`).
+
+mod moving;
+mod scenes;
 
 use pbdda::generate::DiskPile;
 use pbdda::vi::Method;
@@ -224,6 +230,12 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     if args.get(1).is_some_and(|a| a == "long") {
         return long_run(&args[2..]);
+    }
+    if args.get(1).is_some_and(|a| a == "moving") {
+        return moving::table(args.get(2).is_some_and(|a| a == "quick"));
+    }
+    if args.get(1).is_some_and(|a| a == "trade") {
+        return moving::trade();
     }
     let has = |n: &str| args.iter().any(|a| a == n);
     let mut piles = vec![("1,000 disks", pile_of("1000"))];
