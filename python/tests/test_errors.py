@@ -33,9 +33,10 @@ def test_dict_scene_names_the_key():
     scene = {
         "scene": {"name": "two disks"},
         "time": {"step": 0.01, "steps": 10},
+        "material": [{"name": "m", "density": 1000.0}],
         "body": [
-            {"name": "a", "shape": "disk", "center": [0.0, 0.0], "radius": 1.0},
-            {"name": "b", "shape": "disk", "center": [5.0, 0.0], "radius": -2.0},
+            {"name": "a", "shape": "disk", "center": [0.0, 0.0], "radius": 1.0, "material": "m"},
+            {"name": "b", "shape": "disk", "center": [5.0, 0.0], "radius": -2.0, "material": "m"},
         ],
     }
     with pytest.raises(pbdda.SceneError) as info:
