@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Read every step of a pbdda run's ParaView time series with VTK's own reader and with meshio, and
 compare both with the run's CSVs. Needs the Python packages `vtk`, `meshio` and `numpy`
-(`pip install vtk meshio numpy`); `.ci/run` runs it on a short run of every example.
+(`pip install vtk meshio numpy`); the Python tests (python/tests/test_vtu.py, run by `.ci/run`)
+run its checks on a short run of every example.
 
     scripts/check-vtu.py RESULTS_DIR [RESULTS_DIR ...]
 

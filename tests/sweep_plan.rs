@@ -130,3 +130,117 @@ fn bad_plans_and_grids_are_errors() {
     assert!(e.contains("`region[*]` matches nothing"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The shell lines of docs/studies.md's code block that follows `marker` (the recipes).
+fn recipe(marker: &str) -> Vec<String> {
+    let docs = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/studies.md"))
+        .expect("docs/studies.md");
+    let after = &docs[docs.find(marker).unwrap_or_else(|| panic!("no `{marker}` in docs/studies.md"))..];
+    let block = after.split("```sh\n").nth(1).expect("a code block").split("```").next().expect("its end");
+    block
+        .lines()
+        .map(|l| l.split(" #").next().unwrap_or(l).trim().to_owned())
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
+/// The number of finished cases of a plan (result files; not a killed shard's temporary file).
+fn results(plan: &Path) -> usize {
+    let names = std::fs::read_dir(plan.join("results")).expect("results").filter_map(|e| e.ok());
+    names.filter(|e| e.file_name().to_string_lossy().starts_with("case-")).count()
+}
+
+/// Runs `line` with `sh -c` in `dir`, the binary's folder first on the PATH.
+fn shell(dir: &Path, line: &str, env: &[(&str, String)]) {
+    let bin = Path::new(env!("CARGO_BIN_EXE_pbdda")).parent().expect("bin dir").to_owned();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let o = Command::new("sh")
+        .arg("-c")
+        .arg(line)
+        .current_dir(dir)
+        .env("PATH", path)
+        .envs(env.iter().map(|(k, v)| (k, v)))
+        .output()
+        .expect("sh runs");
+    assert!(o.status.success(), "{line}: {}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// The plan `dir/plan` of four bolt strengths (the recipes' shard counts divide the cases
+/// unevenly or leave shards empty, both allowed) and the sequential sweep's sweep.csv.
+fn plan_and_sequential(dir: &Path) -> String {
+    let scene = example("bolted_slope.toml");
+    let args =
+        ["sweep", &scene, "--set", "connector[*].strength=1e5,2e5,5e5,1e6", "--set", "time.steps=60", "-q"];
+    ok(&[&args[..], &["--out", dir.join("seq").to_str().unwrap()]].concat());
+    ok(&[&args[..], &["--plan", dir.join("plan").to_str().unwrap()]].concat());
+    without_wall(&dir.join("seq").join("sweep.csv"))
+}
+
+/// docs/studies.md's GNU parallel recipe, as written (with `parallel` when it is installed;
+/// else its four shards as background jobs of a shell loop, what `parallel -j4` runs), and its
+/// Slurm recipe's `--wrap` command once per array task (the variables Slurm sets): the
+/// collected sweep.csv equals the sequential one but for wall times.
+#[test]
+fn documented_recipes_give_the_sequential_sweep() {
+    let dir = tmp("recipes");
+    let expected = plan_and_sequential(&dir);
+    assert_eq!(expected.lines().count(), 5, "{expected}");
+    let lines = recipe("GNU parallel on one machine");
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    assert!(lines[0].starts_with("parallel -j4 ") && lines[0].ends_with("::: 0 1 2 3"), "{lines:?}");
+    let has_parallel =
+        Command::new("sh").args(["-c", "command -v parallel"]).output().is_ok_and(|o| o.status.success());
+    let run = if has_parallel {
+        lines[0].clone()
+    } else {
+        let command =
+            lines[0].trim_start_matches("parallel -j4 ").trim_end_matches(" ::: 0 1 2 3").replace("{}", "$i");
+        format!("for i in 0 1 2 3; do {command} & done; wait")
+    };
+    shell(&dir, &run, &[]);
+    assert_eq!(results(&dir.join("plan")), 4);
+    shell(&dir, &lines[1], &[]);
+    assert_eq!(without_wall(&dir.join("plan").join("sweep.csv")), expected);
+
+    // Slurm: the array's tasks each run the --wrap command with their task id
+    let slurm = recipe("A Slurm job");
+    let wrap = slurm[1].split("--wrap '").nth(1).and_then(|w| w.strip_suffix('\'')).expect("--wrap '...'");
+    std::fs::remove_dir_all(dir.join("plan/results")).expect("clear results");
+    std::fs::create_dir_all(dir.join("plan/results")).expect("results dir");
+    for task in 0..3 {
+        let env = [("SLURM_ARRAY_TASK_ID", task.to_string()), ("SLURM_ARRAY_TASK_COUNT", "3".to_owned())];
+        shell(&dir, wrap, &env);
+    }
+    shell(&dir, "pbdda sweep --collect plan --out slurm -q", &[]);
+    assert_eq!(without_wall(&dir.join("slurm").join("sweep.csv")), expected);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A shard killed (SIGKILL) while a case runs, after the first case finished, and run again:
+/// it skips the finished case, runs the others, and the collection equals the sequential sweep
+/// but for wall times. (The killed case left no result: results are renamed into place whole.)
+#[test]
+fn killed_shard_rerun_completes() {
+    let dir = tmp("killed");
+    let expected = plan_and_sequential(&dir);
+    let plan = dir.join("plan");
+    let p = plan.to_str().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pbdda"))
+        .args(["sweep", "--run-plan", p, "--shard", "0/1", "-q"])
+        .spawn()
+        .expect("spawn");
+    let first = plan.join("results").join("case-0000.toml");
+    while !first.exists() {
+        assert!(child.try_wait().expect("wait").is_none(), "the shard ended before its first result");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().expect("kill");
+    child.wait().expect("reap");
+    let done = results(&plan);
+    assert!(done < 4, "the shard finished before it was killed");
+    let log = ok(&["sweep", "--run-plan", p, "--shard", "0/1"]);
+    assert!(log.contains(&format!("ran {} cases, skipped {done} finished", 4 - done)), "{log}");
+    ok(&["sweep", "--collect", p, "-q"]);
+    assert_eq!(without_wall(&plan.join("sweep.csv")), expected);
+    let _ = std::fs::remove_dir_all(&dir);
+}

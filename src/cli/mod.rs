@@ -30,7 +30,7 @@ mod check;
 mod cut;
 mod import;
 mod progress;
-mod run;
+pub(crate) mod run;
 pub mod sweep;
 pub mod validate;
 

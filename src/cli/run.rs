@@ -20,7 +20,7 @@ use std::time::Instant;
 
 /// Everything a run writes as it goes: the CSVs, the starting geometry (`geometry.csv`, for
 /// `pbdda render`) and the ParaView time series (`vtk/`, unless `[output] vtk = false`).
-struct Writers {
+pub(crate) struct Writers {
     csv: CsvWriter,
     connectors: ConnectorWriter,
     vtk: Option<VtkWriter>,
@@ -28,7 +28,7 @@ struct Writers {
 
 impl Writers {
     /// Creates the output directory's files; refuses an earlier run's files unless `overwrite`.
-    fn create(out: &Path, world: &World, overwrite: bool) -> Result<Writers, OutputError> {
+    pub(crate) fn create(out: &Path, world: &World, overwrite: bool) -> Result<Writers, OutputError> {
         let model = &world.model;
         let csv = CsvWriter::create(out, model.output.every, model.time.steps, overwrite)?
             .steps_every(model.output.steps_every);
@@ -44,7 +44,7 @@ impl Writers {
     /// written. The VTK file is written on the second core while the CSV rows are formatted
     /// (whose halves then share the calling core: `micropool::join` runs a half itself when no
     /// worker is free).
-    fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
+    pub(crate) fn write_step(&mut self, world: &World, rec: &StepRecord) -> Result<(), OutputError> {
         self.connectors.write_step(world, rec)?;
         let (csv, vtk) = (&mut self.csv, &mut self.vtk);
         let (rows, file) = micropool::join(
@@ -56,7 +56,7 @@ impl Writers {
     }
 
     /// Makes `step` the last step, always written (a run whose last stage ended early).
-    fn finish_at(&mut self, step: usize) {
+    pub(crate) fn finish_at(&mut self, step: usize) {
         self.csv.finish_at(step);
         self.connectors.finish_at(step);
         if let Some(vtk) = &mut self.vtk {
@@ -64,13 +64,13 @@ impl Writers {
         }
     }
 
-    fn log(&mut self, line: &str) -> Result<(), OutputError> {
+    pub(crate) fn log(&mut self, line: &str) -> Result<(), OutputError> {
         self.csv.log(line)
     }
 
     /// Whether step `step` writes contacts (`contacts.csv` or a VTK file): the world makes the
     /// contact records of those steps only (`Settings::contact_records`).
-    fn writes_contacts(&self, step: usize) -> bool {
+    pub(crate) fn writes_contacts(&self, step: usize) -> bool {
         self.csv.writes_state(step) || self.vtk.as_ref().is_some_and(|vtk| vtk.writes(step))
     }
 }

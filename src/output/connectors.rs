@@ -16,7 +16,7 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 pub const FILE: &str = "connectors.csv";
-const HEADER: &str = "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain,anchor_a_x,anchor_a_y,anchor_b_x,anchor_b_y";
+pub(crate) const HEADER: &str = "step,time,connector,kind,body_a,body_b,length,axial_force,shear_force,moment_a,moment_b,state,plastic_strain,anchor_a_x,anchor_a_y,anchor_b_x,anchor_b_y";
 
 pub struct ConnectorWriter {
     path: PathBuf,
@@ -77,13 +77,14 @@ impl ConnectorWriter {
         let io_err = |source| OutputError::Io { path: self.path.clone(), source };
         let listed = |c: &&Connector| if every_row { !c.broken || c.broken_at == Some(s) } else { event(c) };
         for c in world.connectors.iter().filter(listed) {
-            row(&mut out.rows, world, rec, c).map_err(io_err)?;
+            row(&mut out.rows, world, (rec.step, rec.time), c).map_err(io_err)?;
         }
         out.commit().map_err(io_err)
     }
 }
 
-fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::Result<()> {
+/// One row of `connectors.csv` for connector `c` at step and time `at`.
+pub(crate) fn row(w: &mut Vec<u8>, world: &World, at: (usize, f64), c: &Connector) -> io::Result<()> {
     let name = |b: usize| world.bodies[b].name.as_str();
     let opt = |x: Option<f64>| x.map_or(String::new(), |v| Num(v).to_string());
     let (axial, shear, moments, state) = if c.broken {
@@ -96,8 +97,8 @@ fn row(w: &mut Vec<u8>, world: &World, rec: &StepRecord, c: &Connector) -> io::R
     writeln!(
         w,
         "{},{},{},{},{},{},{},{},{},{},{},{state},{},{},{},{},{}",
-        rec.step,
-        Num(rec.time),
+        at.0,
+        Num(at.1),
         c.name,
         c.kind.as_str(),
         name(c.bodies[0]),

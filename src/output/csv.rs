@@ -60,7 +60,7 @@ pub struct CsvWriter {
 }
 
 /// Column headers of the four CSV files.
-const HEADERS: [(&str, &str); 4] = [
+pub(crate) const HEADERS: [(&str, &str); 4] = [
     (
         "bodies.csv",
         "step,time,body,x,y,rotation,vx,vy,omega,strain_x,strain_y,strain_xy,stress_x,stress_y,stress_xy",
@@ -289,7 +289,7 @@ fn in_halves<T: Sync>(
 }
 
 /// One row of `bodies.csv` after `head` (step and time).
-fn body_row(out: &mut Vec<u8>, head: &[u8], b: &Body) -> io::Result<()> {
+pub(crate) fn body_row(out: &mut Vec<u8>, head: &[u8], b: &Body) -> io::Result<()> {
     let (c, v) = (b.centroid, b.velocity);
     out.extend_from_slice(head);
     write!(
@@ -315,7 +315,12 @@ fn body_row(out: &mut Vec<u8>, head: &[u8], b: &Body) -> io::Result<()> {
 }
 
 /// One row of `contacts.csv` after `head` (step and time).
-fn contact_row(out: &mut Vec<u8>, head: &[u8], world: &World, c: &ContactRecord) -> io::Result<()> {
+pub(crate) fn contact_row(
+    out: &mut Vec<u8>,
+    head: &[u8],
+    world: &World,
+    c: &ContactRecord,
+) -> io::Result<()> {
     let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
     out.extend_from_slice(head);
     write!(

@@ -328,11 +328,21 @@ pub fn command(args: &SweepArgs) -> Result<()> {
 /// Prints the table and writes sweep.csv (and sweep.png when there are errors to plot).
 fn write(report: &SweepReport, out: &Path) -> Result<()> {
     out!("{}", report.table());
-    std::fs::create_dir_all(out).into_diagnostic()?;
-    std::fs::write(out.join("sweep.csv"), report.csv()).into_diagnostic()?;
-    outln!("wrote {}", out.join("sweep.csv").display());
-    if plot::error_against_cost(report, &out.join("sweep.png"))? {
-        outln!("wrote {}", out.join("sweep.png").display());
+    for path in write_files(report, out)? {
+        outln!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// Writes `out`/sweep.csv (and sweep.png when there are errors to plot); returns their paths.
+pub fn write_files(report: &SweepReport, out: &Path) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out).into_diagnostic()?;
+    let csv = out.join("sweep.csv");
+    std::fs::write(&csv, report.csv()).into_diagnostic()?;
+    let mut written = vec![csv];
+    let png = out.join("sweep.png");
+    if plot::error_against_cost(report, &png)? {
+        written.push(png);
+    }
+    Ok(written)
 }

@@ -124,6 +124,11 @@ fn load(dir: &Path) -> Result<(PlanFile, String, Plan)> {
     Ok((plan_file, file, plan))
 }
 
+/// Number of cases of the plan in `dir` (checked as a shard checks it).
+pub fn cases(dir: &Path) -> Result<usize> {
+    Ok(load(dir)?.2.cases.len())
+}
+
 /// Runs the cases of shard `(i, n)` of the plan in `dir` that have no result yet.
 pub fn run_plan(dir: &Path, (i, n): (usize, usize), quiet: bool) -> Result<()> {
     let (_, file, plan) = load(dir)?;
