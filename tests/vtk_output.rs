@@ -229,7 +229,9 @@ fn check_run(dir: &Path, world: &World, written: &[usize]) -> Vec<Step> {
     let mut out = Vec::new();
     for &s in written {
         let (b, c) = (rows_at(&bodies, s), rows_at(&contacts, s));
-        let time = &b[0][bodies.col("time").unwrap()];
+        // a row may carry extra digits of the same value (docs/scene-format.md, "Row layout")
+        let time: f64 = b[0][bodies.col("time").unwrap()].parse().expect("time");
+        let time = pbdda::output::csv::Num(time);
         let entry = format!("timestep=\"{time}\" group=\"\" part=\"0\" file=\"step_{s:06}.vtu\"");
         assert!(pvd.contains(&entry), "scene.pvd has no entry `{entry}`:\n{pvd}");
         let step = Step::read(&dir.join(format!("vtk/step_{s:06}.vtu")));

@@ -19,7 +19,7 @@ SCENES = sorted(EXAMPLES.glob("*.toml"))
 
 def test_examples_are_all_here():
     # tests/vtk_output.rs counts the examples too
-    assert len(SCENES) == 25
+    assert len(SCENES) == 28
 
 
 @pytest.mark.parametrize("scene", SCENES, ids=lambda p: p.stem)

@@ -57,7 +57,7 @@ fn pairs(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>)
 /// of a rigid polygon (flagged by [`crate::geometry::polygon_contact_flags`] where the edge's
 /// interface changes) and one end of its edge is such a vertex of the other polygon at the same
 /// point. Two joints end there, one per edge piece, and each keeps its own end contact.
-fn seam_end(c: &ContactGeom, x: &Polygon, y: &Polygon, tol: &Tolerances) -> bool {
+pub(super) fn seam_end(c: &ContactGeom, x: &Polygon, y: &Polygon, tol: &Tolerances) -> bool {
     let (Feature::Vertex(kv), Feature::Edge(f)) = (c.key.fb, c.key.fa) else { return false };
     let (p, q) = if c.key.b as usize == x.body { (x, y) } else { (y, x) };
     let straight = |poly: &Polygon, k: usize| {

@@ -3,7 +3,7 @@
 //! at each end of the overlap, tagged with the same [`JointKey`] and the overlap length
 //! (cohesion and tensile capacity are shared by the pair, math note §4.6).
 
-use super::block::vertex_edge_admissible;
+use super::block::{seam_end, vertex_edge_admissible};
 use super::narrow::{Polygon, Tolerances, vertex_edge_geom};
 use super::{ContactGeom, JointKey};
 use std::collections::BTreeMap;
@@ -18,7 +18,7 @@ pub fn edge_edge(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
             joint(x, e, y, f, tol, &mut found);
         }
     }
-    tributary(found, tol, out);
+    tributary(found, tol, |c| seam_end(c, x, y, tol), out);
 }
 
 /// Math note §4.15: the joints' contacts, with those that coincide merged. Two contacts
@@ -29,11 +29,19 @@ pub fn edge_edge(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
 /// contacts (1 or 2) L/n of its length L; such a contact carries the sum of its shares over the
 /// joints it ends as its own capacity length, without a partner (`joint` None). The lengths
 /// of a face's contacts then add up to the joints' lengths, where the dedupe used to drop the
-/// shares of the merged ends.
-fn tributary(found: Vec<ContactGeom>, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
+/// shares of the merged ends. At a seam (`seam`, math note §5.1) the end contacts of the two
+/// edge pieces do not coincide: each keeps its own joint and law.
+fn tributary(
+    found: Vec<ContactGeom>,
+    tol: &Tolerances,
+    seam: impl Fn(&ContactGeom) -> bool,
+    out: &mut Vec<ContactGeom>,
+) {
     let same = |a: &ContactGeom, b: &ContactGeom| {
         a.key == b.key
-            || ((a.point - b.point).norm() <= tol.merge && a.normal.dot(&b.normal).abs() >= tol.cos_angle)
+            || ((a.point - b.point).norm() <= tol.merge
+                && a.normal.dot(&b.normal).abs() >= tol.cos_angle
+                && !(seam(a) && seam(b)))
     };
     // owner[k]: the first contact that contact k coincides with (itself if none)
     let owner: Vec<usize> =
