@@ -84,6 +84,7 @@ fn check(v0: f64) {
     let down = Vec2::new(-c, -s);
     let model = pbdda::scene::parse(&scene(v0), "stop.toml").unwrap_or_else(|e| panic!("{e}"));
     let mut world = World::new(model);
+    world.settings.friction_stops = true; // off by default (World Settings)
     let b = world.bodies.iter().position(|b| b.name == "block").expect("block");
     let c0 = world.bodies[b].centroid;
     for step in 1..=30 {
