@@ -9,6 +9,9 @@
 //!   dt = 1 s, E = 1e7 Pa), so after 4 steps only round-off is left;
 //! - rollers on both sides too (plane strain, ε_x = 0): σ_x = ν/(1 − ν) σ_y (Hooke's law with
 //!   ε_x = ε_z = 0), to 1e-9 of p;
+//! - both of the above on a cut-and-meshed block: the left block of a 4 m x 1 m domain cut by a
+//!   vertical set at 2 m, meshed by the cutter's own triangulation (`rockmass::mesh_block`,
+//!   mesh_size 0.3), its sides grouped by their coordinates; same closed forms, same tolerance;
 //! - a rigid block under a pressure p and a shear s on part of its top edge, x in [x1, x2], free
 //!   flight from rest for one step: the scheme is exact for a constant force (math note §1.1), so
 //!   the centroid moves F dt²/(2m) with F = (−s ℓ, −p ℓ), ℓ = x2 − x1, and the block turns by
@@ -68,6 +71,69 @@ group = "top"
 pressure = {P}
 "#
     )
+}
+
+/// The left block of a 4 m x 1 m domain cut by a vertical set at 2 m, meshed by the cutter
+/// (`mesh_block`), as a gmsh MSH 2.2 file in the temporary directory: physical curves "bottom",
+/// "left", "right", "top" by the boundary edges' coordinates, surface "block". Returns its path.
+fn cut_and_meshed_block() -> String {
+    use pbdda::rockmass::{CutSpec, JointSet, cut, mesh_block};
+    use std::fmt::Write;
+    let spec = CutSpec {
+        domain: vec![[0.0, 0.0], [4.0, 0.0], [4.0, 1.0], [0.0, 1.0]],
+        joint_sets: vec![JointSet { angle: 90.0, spacing: 2.0, ..JointSet::default() }],
+        ..CutSpec::default()
+    };
+    let blocks = cut(&spec).expect("cut").blocks;
+    assert_eq!(blocks.len(), 2, "a set at 2 m across 4 m makes two blocks");
+    let left = blocks.iter().find(|b| b.centroid[0] < 2.0).expect("the left block");
+    let mesh = mesh_block(left, 0.3).expect("mesh");
+    let side = |[a, b]: [usize; 2]| {
+        let (p, q) = (mesh.nodes[a], mesh.nodes[b]);
+        let on = |c: usize, v: f64| (p[c] - v).abs() < 1e-12 && (q[c] - v).abs() < 1e-12;
+        [(1, 0.0, 1), (0, 0.0, 2), (0, 2.0, 3), (1, 1.0, 4)]
+            .iter()
+            .find(|&&(c, v, _)| on(c, v))
+            .map(|&(_, _, tag)| tag)
+            .expect("every boundary edge on a side of the 2 m x 1 m block")
+    };
+    let mut msh = String::from("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n5\n");
+    msh += "1 1 \"bottom\"\n1 2 \"left\"\n1 3 \"right\"\n1 4 \"top\"\n2 5 \"block\"\n$EndPhysicalNames\n";
+    let _ = writeln!(msh, "$Nodes\n{}", mesh.nodes.len());
+    for (i, p) in mesh.nodes.iter().enumerate() {
+        let _ = writeln!(msh, "{} {:?} {:?} 0", i + 1, p[0], p[1]);
+    }
+    let _ = writeln!(msh, "$EndNodes\n$Elements\n{}", mesh.boundary.len() + mesh.triangles.len());
+    let mut id = 0;
+    for (e, _) in &mesh.boundary {
+        id += 1;
+        let tag = side(*e);
+        let _ = writeln!(msh, "{id} 1 2 {tag} {tag} {} {}", e[0] + 1, e[1] + 1);
+    }
+    for t in &mesh.triangles {
+        id += 1;
+        let _ = writeln!(msh, "{id} 2 2 5 5 {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    msh += "$EndElements\n";
+    let path = std::env::temp_dir().join(format!("pbdda-cut-patch-{}.msh", std::process::id()));
+    std::fs::write(&path, msh).expect("write the mesh");
+    path.display().to_string()
+}
+
+#[test]
+fn a_cut_and_meshed_block_passes_the_patch_and_plane_strain_tests() {
+    let file = cut_and_meshed_block();
+    let nu: f64 = 0.25;
+    for (plane, sides, sx) in
+        [("stress", "\"left\"", 0.0), ("strain", "\"left\", \"right\"", -nu / (1.0 - nu) * P)]
+    {
+        let extra = format!("fixed_y_nodes = [\"bottom\"]\nfixed_x_nodes = [{sides}]");
+        let mut w = world(&patch("", plane, &extra).replace("../meshes/", &file));
+        run(&mut w, 4);
+        assert!(element_stresses(&w).len() > 20, "the cutter's mesh of a 2 m x 1 m block at 0.3 m");
+        assert_uniform(&w, [sx, -P, 0.0], plane);
+    }
+    let _ = std::fs::remove_file(&file);
 }
 
 fn element_stresses(w: &World) -> Vec<[f64; 3]> {
