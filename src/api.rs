@@ -15,7 +15,7 @@ use crate::cli::RunSummary;
 use crate::cli::run::Writers;
 use crate::error::SceneError;
 use crate::model::Model;
-use crate::output::csv::{HEADERS, OutputError, body_row, contact_row};
+use crate::output::csv::{HEADERS, OutputError, body_row, contact_row, monitor_rows};
 use crate::scene::{self, Override};
 use crate::world::{StepError, StepRecord, World};
 use std::path::{Path, PathBuf};
@@ -31,6 +31,8 @@ pub enum Table {
     /// `connectors.csv`: one row per connector; a broken one only in the step it broke, as
     /// the file lists it.
     Connectors,
+    /// `monitors.csv`: one row per `[[monitor]]` point.
+    Monitors,
 }
 
 impl Table {
@@ -40,6 +42,7 @@ impl Table {
             "bodies" => Some(Table::Bodies),
             "contacts" => Some(Table::Contacts),
             "connectors" => Some(Table::Connectors),
+            "monitors" => Some(Table::Monitors),
             _ => None,
         }
     }
@@ -50,6 +53,7 @@ impl Table {
             Table::Bodies => HEADERS[0].1,
             Table::Contacts => HEADERS[1].1,
             Table::Connectors => crate::output::connectors::HEADER,
+            Table::Monitors => HEADERS[2].1,
         }
     }
 }
@@ -80,22 +84,28 @@ pub struct Simulation {
     pub world: World,
     last: Option<StepRecord>,
     output: Option<Output>,
+    /// The overrides the scene was read with, as `--set` takes them (logged in run.log).
+    overrides: Vec<String>,
 }
 
 impl Simulation {
     pub fn new(model: Model) -> Simulation {
-        Simulation { world: World::new(model), last: None, output: None }
+        Simulation { world: World::new(model), last: None, output: None, overrides: Vec::new() }
     }
 
     /// The scene file at `path` with `--set` overrides.
     pub fn load(path: &Path, set: &[Override]) -> Result<Simulation, SceneError> {
-        Ok(Simulation::new(scene::load_with(path, set)?))
+        let mut sim = Simulation::new(scene::load_with(path, set)?);
+        sim.overrides = set.iter().map(|o| o.to_string()).collect();
+        Ok(sim)
     }
 
     /// The scene text `source` (named `file` in errors; relative paths in it are those of
     /// `file`'s folder) with `--set` overrides.
     pub fn parse(source: &str, file: &str, set: &[Override]) -> Result<Simulation, SceneError> {
-        Ok(Simulation::new(scene::parse_with(source, file, set)?))
+        let mut sim = Simulation::new(scene::parse_with(source, file, set)?);
+        sim.overrides = set.iter().map(|o| o.to_string()).collect();
+        Ok(sim)
     }
 
     /// From now on, write every step into `dir` as `pbdda run --out dir` does (the CSVs,
@@ -112,7 +122,12 @@ impl Simulation {
         if self.output.is_some() {
             return Err(format!("{}: this simulation writes its results already", dir.display()));
         }
-        let writers = Writers::create(dir, &self.world, overwrite).map_err(|e| e.to_string())?;
+        let mut writers = Writers::create(dir, &self.world, overwrite).map_err(|e| e.to_string())?;
+        if !self.overrides.is_empty() {
+            // run.log's record of the overrides, as `pbdda run` writes it
+            let line = format!("overrides: --set {}", self.overrides.join(" --set "));
+            writers.log(&line).map_err(|e| e.to_string())?;
+        }
         let output =
             Output { writers, summary: RunSummary::default(), dir: dir.into(), wall: 0.0, closed: false };
         self.output = Some(output);
@@ -201,6 +216,7 @@ impl Simulation {
             Table::Connectors => (world.connectors.iter())
                 .filter(|c| !c.broken || c.broken_at == Some(step))
                 .try_for_each(|c| crate::output::connectors::row(&mut out, world, (step, time), c)),
+            Table::Monitors => monitor_rows(&mut out, head.as_bytes(), world),
         };
         String::from_utf8_lossy(&out).into_owned()
     }

@@ -163,7 +163,7 @@ class Simulation:
 
     def table(self, name: str) -> np.ndarray:
         """The rows ``pbdda run`` writes for the current step into ``NAME.csv`` (``bodies``,
-        ``contacts`` or ``connectors``) as a structured array: one field per column, int64
+        ``contacts``, ``connectors`` or ``monitors``) as a structured array: one field per column, int64
         for integer columns, float64 for numbers (NaN where the cell is empty), str for text."""
         names, columns = self._sim.table(name)
         return _structured(names, columns)
@@ -179,6 +179,10 @@ class Simulation:
     def connectors(self) -> np.ndarray:
         """connectors.csv's rows of the current step (empty for a scene without connectors)."""
         return self.table("connectors")
+
+    def monitors(self) -> np.ndarray:
+        """monitors.csv's rows of the current step (empty for a scene without monitors)."""
+        return self.table("monitors")
 
     def csv(self, name: str) -> str:
         """The current step's rows of ``NAME.csv`` as CSV text, with the header."""

@@ -212,7 +212,7 @@ impl Simulation {
 
 fn table(name: &str) -> PyResult<Table> {
     Table::named(name)
-        .ok_or_else(|| PbddaError::new_err(format!("no table `{name}`: bodies, contacts or connectors")))
+        .ok_or_else(|| PbddaError::new_err(format!("no table `{name}`: bodies, contacts, connectors or monitors")))
 }
 
 /// Integer columns of the CSV contract; text columns are the others in [`TEXT`].

@@ -8,8 +8,10 @@ connectors.csv, read with Python's csv module, bit for bit (both come from the s
 files write them in shortest round-trip form, which parses back to the same bits). The folder
 that pbdda.run writes equals the CLI's byte for byte, but for the wall-time values (steps.csv's
 wall_seconds column and run.log's closing line) and the digits they move (docs/scene-format.md,
-Row layout): steps.csv is compared value for value without that column; run.log has no
-`overrides:` line (the CLI's record of its --set options).
+Row layout): steps.csv is compared value for value without that column; run.log's lines are
+equal up to their wall times, its `overrides:` line (the record of the --set options) included.
+monitors() holds monitors.csv's rows of every step of an example with a monitor point
+(examples/7_6_sliding_block_cohesion.toml), bit for bit.
 """
 
 import subprocess
@@ -51,6 +53,18 @@ def test_tables_equal_the_clis_csvs(cli, tmp_path):
     assert sim.finished
 
 
+def test_monitors_equal_the_clis_csv(cli, tmp_path):
+    scene = EXAMPLES / "7_6_sliding_block_cohesion.toml"
+    out = tmp_path / "cli"
+    subprocess.run([cli, "run", "-q", str(scene), "--out", str(out), *CLI_SET], check=True)
+    rows = by_step(read_rows(out / "monitors.csv"))
+    sim = pbdda.load(scene, set=SET)
+    for step in range(1, 21):
+        sim.step()
+        assert len(rows[step]) == 1
+        assert_same_table(sim.monitors(), rows[step], f"monitors.csv step {step}")
+
+
 def numbers_without_wall(path: Path):
     rows = read_rows(path)
     return [{k: v for k, v in r.items() if k != "wall_seconds"} for r in rows]
@@ -69,9 +83,8 @@ def test_results_folder_equals_the_clis(cli, tmp_path):
         assert (a / rel).read_bytes() == (b / rel).read_bytes(), rel
     assert numbers_without_wall(a / "steps.csv") == numbers_without_wall(b / "steps.csv")
     log = lambda d: (d / "run.log").read_text().splitlines()
-    # the CLI logs its --set overrides first; the package does not (its overrides are not --set)
-    cli_log = [l for l in log(a) if not l.startswith("overrides: ")]
-    assert [l.split(" in ")[0] for l in cli_log] == [l.split(" in ")[0] for l in log(b)]
+    assert log(b)[0] == "overrides: --set time.steps=20 --set output.every=1"
+    assert [l.split(" in ")[0] for l in log(a)] == [l.split(" in ")[0] for l in log(b)]
     assert log(b)[-1].startswith("completed 20 steps")
 
 

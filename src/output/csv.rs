@@ -226,30 +226,7 @@ impl CsvWriter {
             in_halves(&live, &mut self.bodies.rows, spare, |out, b| body_row(out, head, b))?;
         }
         in_halves(&rec.contacts, &mut self.contacts.rows, spare, |out, c| contact_row(out, head, world, c))?;
-        for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
-            let body = &world.bodies[p.body];
-            let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
-            let (x, y) = (Num(p.current.x), Num(p.current.y));
-            self.monitors.rows.extend_from_slice(head);
-            write!(
-                self.monitors.rows,
-                "{},{x},{y},{},{},{},{}",
-                m.name,
-                Num(u.x),
-                Num(u.y),
-                Num(v.x),
-                Num(v.y)
-            )?;
-            // the stress of the mesh element holding the point (scene-format: monitors.csv)
-            match &body.mesh {
-                Some(fe) => {
-                    let st = fe.stress_at(p.current);
-                    writeln!(self.monitors.rows, ",{},{},{}", Num(st[0]), Num(st[1]), Num(st[2]))?
-                }
-                None => writeln!(self.monitors.rows, ",,,")?,
-            }
-        }
-        Ok(())
+        monitor_rows(&mut self.monitors.rows, head, world)
     }
 
     /// Makes `step` the last step, always written (a run whose last stage ended early).
@@ -339,4 +316,24 @@ pub(crate) fn contact_row(
     }
     let interface = c.interface.and_then(|i| world.model.interfaces[i].name.as_deref()).unwrap_or("");
     writeln!(out, ",{},{},{interface}", Num(c.gap), c.state.as_str())
+}
+
+/// monitors.csv's rows of the current state, each starting with `head` (`step,time,`).
+pub fn monitor_rows(out: &mut Vec<u8>, head: &[u8], world: &World) -> io::Result<()> {
+    for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
+        let body = &world.bodies[p.body];
+        let (u, v) = (p.current - p.initial, body.point_velocity(p.current));
+        let (x, y) = (Num(p.current.x), Num(p.current.y));
+        out.extend_from_slice(head);
+        write!(out, "{},{x},{y},{},{},{},{}", m.name, Num(u.x), Num(u.y), Num(v.x), Num(v.y))?;
+        // the stress of the mesh element holding the point (scene-format: monitors.csv)
+        match &body.mesh {
+            Some(fe) => {
+                let st = fe.stress_at(p.current);
+                writeln!(out, ",{},{},{}", Num(st[0]), Num(st[1]), Num(st[2]))?
+            }
+            None => writeln!(out, ",,,")?,
+        }
+    }
+    Ok(())
 }
