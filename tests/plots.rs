@@ -102,7 +102,7 @@ fn check_example(file: &str) {
 }
 
 #[test]
-fn every_example_plots_and_renders() {
+fn slow_every_example_plots_and_renders() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
     let mut files: Vec<String> = std::fs::read_dir(&dir)
         .expect("examples")
