@@ -20,7 +20,7 @@ pub struct DiskPile {
 }
 
 impl DiskPile {
-    /// The benchmark pile of the issue: radius 0.5, density 1, μ 0.6, dt 1/60.
+    /// The benchmark pile (`benches/`, `pbdda-compare`): radius 0.5, density 1, μ 0.6, dt 1/60.
     pub fn benchmark(columns: usize, rows: usize) -> DiskPile {
         DiskPile {
             columns,
@@ -94,8 +94,8 @@ impl DiskPile {
 }
 
 /// A rectangular meshed block resting on a fixed rigid floor with a rigid disk pressed into the
-/// middle of its top (the 100k-DOF benchmark of issue 8): `nx` × `ny` cells of a structured grid,
-/// each split into two 3-node triangles along alternating diagonals (so the mesh has no
+/// middle of its top (the 100k-DOF block of `benches/mesh.rs`): `nx` × `ny` cells of a
+/// structured grid, each split into two 3-node triangles along alternating diagonals (so the mesh has no
 /// preferred direction), free nodes only (it rests on the floor by contact, `BL`), under gravity,
 /// static relaxation. The disk (radius `width / 8`) carries `load` downwards.
 #[derive(Debug, Clone, Copy)]

@@ -22,9 +22,9 @@ use std::ops::Range;
 
 /// The part of one row of B on one DOF range, in 20 bytes: its entries are the Jacobian's
 /// `vals[val..val + width]` ([`Jacobian::vals`]). The products stream over every segment several
-/// times a step, and from about 10,000 disks B no longer fits the caches (math note §3.3); with
-/// usize fields and the six entries inline a segment took 80 bytes. u32 indices hold every
-/// problem that fits in memory: 2³² segments would take 86 GB, 2³² values 34 GB.
+/// times a step, and from about 10,000 disks B does not fit the caches (math note §3.3), so a
+/// segment is kept small (usize fields and six inline entries would take 80 bytes). u32 indices
+/// hold every problem that fits in memory: 2³² segments would take 86 GB, 2³² values 34 GB.
 #[derive(Debug, Clone, Copy)]
 pub struct Segment {
     row: u32,

@@ -118,7 +118,9 @@ impl Bolt {
         let (d, _) = trial(plastic, self);
         if !self.broken && ultimate.is_some_and(|u| (self.l + d - L) / L > u) {
             self.broken = true;
-            return self.step(f, ultimate) || true;
+            // the step is solved again without the bolt; it broke in this step either way
+            self.step(f, ultimate);
+            return true;
         }
         self.l += d;
         if !self.broken {

@@ -76,7 +76,7 @@ fn supernodal_factor_matches_full_solves() {
 /// top's 30, within 1e-12 of the largest entry: the size the fast path is for (the full solves
 /// of the reference take most of this test's time).
 #[test]
-fn bench_matrix_matches_full_solves() {
+fn slow_bench_matrix_matches_full_solves() {
     let (factor, bottom, top) = factor_and_contact_dofs(316);
     assert!(factor.is_supernodal());
     assert_eq!((bottom.len(), top.len()), (634, 30));

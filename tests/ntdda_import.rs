@@ -171,9 +171,12 @@ fn ignored_fields_are_listed_one_line_each() {
     assert!(scene.ignored.iter().any(|l| l.contains("mass.geo:18: load point 1")));
 }
 
-/// Writes `text` to a scratch file named `name` and imports it (with `ana` if given).
+/// Writes `text` to a scratch file named `name` and imports it (with `ana` if given). Each call
+/// has a folder of its own: the tests run in parallel and several use the same file names.
 fn import_text(name: &str, text: &str, ana: Option<(&str, &str)>) -> Result<pbdda::ntdda::Import, String> {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ntdda_import");
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("ntdda_import").join(call.to_string());
     std::fs::create_dir_all(&dir).expect("scratch dir");
     let geo = dir.join(name);
     std::fs::write(&geo, text).expect("write");

@@ -34,12 +34,12 @@ use pbdda::model::Shape;
 use pbdda::world::World;
 
 #[test]
-fn a_slumping_pile_converges_and_loses_energy() {
+fn slow_a_slumping_pile_converges_and_loses_energy() {
     slump(10, 6, 40);
 }
 
 #[test]
-fn a_larger_pile_slumps_converged() {
+fn slow_a_larger_pile_slumps_converged() {
     slump(20, 12, 23);
 }
 

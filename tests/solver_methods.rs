@@ -49,9 +49,16 @@ fn paper_examples_with_newton() {
     check("newton");
 }
 
+/// `auto` (the default) runs MPRGP's chain (`Method::resolve`), so the MPRGP run above covers
+/// it; what is left to check is that the default scene gets `auto` and that `auto` stands for
+/// MPRGP (the scene-format reference says so).
 #[test]
-fn paper_examples_with_auto() {
-    check("auto");
+fn auto_is_the_default_and_stands_for_mprgp() {
+    use pbdda::vi::Method;
+    let scene = pbdda::scene::load_with(std::path::Path::new("examples/7_1_disk_heap.toml"), &[])
+        .expect("the example loads");
+    assert_eq!(scene.solver.method, Method::Auto);
+    assert_eq!(Method::parse("auto").map(Method::resolve), Some(Method::Mprgp));
 }
 
 /// A method name outside the list is a typed error naming the key (scene-format contract).

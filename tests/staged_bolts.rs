@@ -7,9 +7,6 @@
 //! never by one of the excavation's own blocks, whether the bolts are grouted (segments) or
 //! end-anchored.
 
-mod common;
-use common::*;
-
 /// The example with its pattern's `grouted` set to `grouted`.
 fn tunnel(grouted: bool) -> pbdda::model::Model {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/tunnel_insitu.toml");

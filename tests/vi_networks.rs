@@ -51,7 +51,7 @@ fn correction_comparison() {
 /// 1e-6) and for a Coulomb QVI stopped by a 2 000-iteration budget. 3 540 rows: two blocks of
 /// 2 048, one per half of `micropool::join`.
 #[test]
-fn parallel_equals_serial() {
+fn slow_parallel_equals_serial() {
     let (w, q) = grid_network(30, 30, 11, 0.1);
     for (qvi, method) in [false, true].into_iter().flat_map(|q| [(q, Method::Pc), (q, Method::Mprgp)]) {
         let mut res = Vec::new();

@@ -90,9 +90,9 @@ pub enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<Override>,
     },
-    /// Run the paper's examples (§7.1-7.10, built in) and print paper, exact and pbdda values.
     /// Cut a scene's rock mass into blocks and write the scene with them as explicit bodies.
     Cut {
+        /// Scene file (TOML) with a `[domain]` to cut.
         scene: PathBuf,
         /// The expanded scene file to write (meshed blocks' `.msh` files go beside it).
         #[arg(long)]
@@ -101,6 +101,7 @@ pub enum Command {
         #[arg(long)]
         png: Option<PathBuf>,
     },
+    /// Run the paper's examples (§7.1-7.10, built in) and print paper, exact and pbdda values.
     Validate {
         /// Also write the table as a Markdown report to this file.
         #[arg(long, value_name = "FILE")]

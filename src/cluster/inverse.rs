@@ -1,6 +1,6 @@
 //! The block `(K⁻¹)_SS` of a sparse SPD matrix's inverse over the DOFs contacts touch, from
-//! sparse forward solves with its Cholesky factor (math note §9.3, "The block from the
-//! factor's paths").
+//! sparse forward solves with its Cholesky factor (math note §9.3, "The code's cache", and §9.7,
+//! "The contact block from the factor's paths").
 //!
 //! With `P K Pᵀ = L Lᵀ`, `(K⁻¹)_ab = y_a · y_b` where `y_a = L⁻¹ P e_a`. The forward solve of a
 //! unit vector is nonzero only on the path from its column to the root of the elimination

@@ -366,14 +366,13 @@ impl BodyPart {
     /// xᵀ Ŵ_bodies x <= Σ_r out_r x_r² for every x, Ŵ = S W S, S = diag(sc). (Cluster c adds
     /// |Σ_r sc_r x_r t_r|² = |T_cᵀ y|² <= λ_max(T_cᵀ T_c) |y|², T_c's rows sc_r t_rᵀ and y_r = x_r,
     /// and T_cᵀ T_c = M_c.) λ_c is exact for 3 DOFs (rigid bodies) and Gershgorin's bound of M_c
-    /// otherwise. Costs about 2 n_c² multiply-adds per segment, where Gershgorin's bound of W took
-    /// W's m_c² entries per cluster.
+    /// otherwise. Costs about 2 n_c² multiply-adds per segment, where Gershgorin's bound of W
+    /// reads W's m_c² entries per cluster.
     ///
     /// A row with two segments on one cluster (a contact between two bodies joined by a bolt)
     /// sums them first: taken one by one, each segment's rigid motion (compliance dt²/2m) would
     /// count against the row's scale, which only their difference sets (the bolt's much smaller
-    /// compliance), and the bound of the 1,000-disk pile with ten bolted pairs was 95 times
-    /// ‖Ŵ‖ (1.12 times without the bolts; 1.32 times summed, the power method's ‖Ŵ‖).
+    /// compliance), and the bound would be tens of times ‖Ŵ‖ (`joined_cluster_in_body_form`).
     pub fn row_bounds(&self, jac: &Jacobian, sc: &[f64], out: &mut [f64]) {
         let Blocks { n: ns, square, packed, root, .. } = &*self.blocks;
         let bodies = ns.len();
@@ -383,8 +382,8 @@ impl BodyPart {
         work.resize(packed[bodies] + bodies, 0.0);
         let (m, lambda) = work.split_at_mut(packed[bodies]);
         m.fill(0.0);
-        // a rigid body's row s: t = Rᵀ s, M += w t tᵀ, unrolled over arrays (the general loop
-        // below costs about an eighth of a warm step more on a pile of disks, callgrind)
+        // a rigid body's row s: t = Rᵀ s, M += w t tᵀ, unrolled over arrays (cheaper than the
+        // general loop below; `benches/vi.rs` measures the warm step)
         let rigid = |m: &mut [f64], b: usize, v: &[f64; 3], w: f64| {
             rigid_term(range_n::<9>(root, square[b]), v, w, range_n_mut::<6>(m, packed[b]))
         };

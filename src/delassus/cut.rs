@@ -54,8 +54,8 @@ const CUT_WINDOW: usize = 256;
 /// suffix minima. Segments pushed contact by contact, as the rows are built, cut at the first
 /// contact that starts past half, or inside a contact with one body (rows n, t of a wall
 /// contact), but never at a two-body contact's second row (n on A, t on A, n on B, t on B):
-/// the first rule, which took the first row above the first half and gave up when a later row
-/// lay below it, found no cut when half fell there (`tests_bodies.rs`).
+/// a rule that took the first row above the first half and gave up when a later row lay below
+/// it would find no cut when half falls there (`tests_bodies.rs`).
 fn split_of(all: &[Segment]) -> usize {
     let n = all.len();
     let half = n.div_ceil(2).max(1);

@@ -307,7 +307,7 @@ impl Ctx<'_> {
             return match self.arr.locate(l.a) {
                 Location::Inside(f) if !self.removed[f] => Ok(vec![l.a]),
                 _ => {
-                    let f = self.holder(l.a).map_err(|m| err(m))?;
+                    let f = self.holder(l.a).map_err(&err)?;
                     let p = self.arr.interior_point(f);
                     self.notes.push(format!(
                         "{at} {} lies on an edge of {}: fixed by its interior point {}",

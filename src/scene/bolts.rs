@@ -38,7 +38,7 @@ pub(super) fn expand(raw: &mut raw::Scene, outlines: &Outlines) -> Check<Vec<Str
         let c = if i >= first_pattern && !grouted { held_outside(c, &polygons) } else { c };
         if !grouted {
             if c.get_ref().name.as_ref().is_some_and(|n| n.get_ref().contains('-'))
-                && raw.bolt_pattern.len() > 0
+                && !raw.bolt_pattern.is_empty()
             {
                 made.push(c.get_ref().name.as_ref().map_or(String::new(), |n| n.get_ref().clone()));
             }

@@ -155,7 +155,7 @@ pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
         }
         for (i, source) in block.edges.iter().enumerate() {
             let (a, b) = (block.vertices[i], block.vertices[(i + 1) % block.vertices.len()]);
-            out.edges.push(([a, b], source.clone()));
+            out.edges.push(([a, b], *source));
         }
         out.blocks.push(name);
         out.areas.push(block.area);
