@@ -75,8 +75,10 @@ pub(super) fn seam_end(c: &ContactGeom, x: &Polygon, y: &Polygon, tol: &Toleranc
 /// its projection falls (math note §5, B-B vertex-edge): vertex k convex, g0 within
 /// (-d0, threshold) (d0 the penetration allowance, the threshold d0 or its enlargement), and the
 /// cone test (the edges at vertex k do not dip through the edge line). A penetrating vertex
-/// (g0 < 0) must also be inside `y` near the edge ([`Polygon::behind_end_edges`]): below the
-/// edge line but beyond a convex corner's other edge is outside `y`, not a penetration.
+/// (g0 < 0) must also be inside `y` near the edge, with this edge its shortest way out
+/// ([`Polygon::behind_end_edges`]): below the edge line but beyond a convex corner's other edge
+/// is outside `y`, not a penetration; a corner sliding along the other edge's line (a joint
+/// crossing) is pushed back onto that line, not through this edge.
 pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol: &Tolerances) -> bool {
     let e = y.edge(f);
     let v = x.vertices[k];
@@ -85,7 +87,7 @@ pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol:
         && g0 > -tol.depth
         && g0 < tol.threshold
         && x.cone_clear(k, e.n_out, tol)
-        && (g0 >= 0.0 || y.behind_end_edges(f, v, tol))
+        && (g0 >= 0.0 || y.behind_end_edges(f, v, g0, tol))
 }
 
 /// Single vertex-edge contacts of the convex vertices of `x` against the edges of `y`
