@@ -1,7 +1,6 @@
-//! Blocks sliding past crossings of two persistent joint sets (math note §5, "Corners at a
-//! joint crossing"): four blocks meet at every crossing, and the slab's corner there makes no
-//! contact with the block diagonally across, so the slab slides along the bedding as a block on
-//! a single joint does.
+//! Blocks sliding past crossings of two persistent joint sets (math note §5.2): four blocks meet at
+//! every crossing, and the slab's corner there makes no contact with the block diagonally across,
+//! so the slab slides along the bedding as a block on a single joint does.
 
 mod common;
 use common::*;

@@ -87,7 +87,7 @@ pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol:
         && g0 > -tol.depth
         && g0 < tol.threshold
         && x.cone_clear(k, e.n_out, tol)
-        && (g0 >= 0.0 || y.behind_end_edges(f, v, g0, tol))
+        && (g0 >= 0.0 || y.behind_end_edges(f, x, k, g0, tol))
 }
 
 /// Single vertex-edge contacts of the convex vertices of `x` against the edges of `y`
@@ -118,16 +118,15 @@ fn vertex_vertex(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
     }
 }
 
-/// The one contact of corners V (vertex k of `x`) and W (vertex m of `y`), from four
-/// candidates: V against the two edge lines at W, and W against the two edge lines at V.
-/// Admissible: on the outer side of the line (g0 >= -merge distance) and passing the cone
-/// test, i.e. the line separates the two corners. Chosen: the largest g0 (the separating line
-/// with the widest gap). Tie-break (the note's approach-direction rule needs velocities, which
-/// detection does not have), among candidates within the tie width of the largest g0: a line
-/// that carries an edge of each body (the corners meet end to end along it, [`on_common_line`])
-/// before one that does not; if such lines run in two directions, the corners meet at a
-/// crossing of two joint lines and there is no contact (math note §5, "Corners at a joint
-/// crossing"); then the smallest contact key, i.e. the edge of the smaller body index, then
+/// The one contact of corners V (vertex k of `x`) and W (vertex m of `y`), from four candidates: V
+/// against the two edge lines at W, and W against the two edge lines at V. Admissible: on the outer
+/// side of the line (g0 >= -merge distance) and passing the cone test, i.e. the line separates the
+/// two corners. Chosen: the largest g0 (the separating line with the widest gap). Tie-break (the
+/// note's approach-direction rule needs velocities, which detection does not have), among
+/// candidates within the tie width of the largest g0: a line that carries an edge of each body (the
+/// corners meet end to end along it, [`on_common_line`]) before one that does not; if such lines
+/// run in two directions, the corners meet at a crossing of two joint lines and there is no contact
+/// (math note §5.2); then the smallest contact key, i.e. the edge of the smaller body index, then
 /// the smaller edge index.
 fn separating_line(x: &Polygon, k: usize, y: &Polygon, m: usize, tol: &Tolerances) -> Option<ContactGeom> {
     let candidates = [(x, k, y, m), (x, k, y, y.prev(m)), (y, m, x, k), (y, m, x, x.prev(k))];
@@ -285,15 +284,14 @@ mod tests {
         check(&got[0], key(0, Edge(1), 1, Vertex(0)), BB, (-1.0, 0.0), 0.03, (1.015, 1.01), TOL);
     }
 
-    /// Four blocks at a crossing of two persistent joints (math note §5, "Corners at a joint
-    /// crossing"): the bedding line through the origin at 30° (unit direction u) and the cross
-    /// line at 120° (direction v = perp(u)). In the (u, v) frame: slab A = [-1,0]×[0,1] (body 0),
-    /// B = [-1,0]×[-1,0] below it (1), C = [0,1]×[0,1] beside it (2), D = [0,1]×[-1,0] across
-    /// the crossing (3). Every line through the crossing carries an edge of each diagonal pair,
-    /// so A-D and B-C make no contact; A's corner is held by the joints A-B (normal ±v, the
-    /// bedding's) and A-C (±u, the cross joint's). Expected contacts at the crossing: one per
-    /// side pair, each on the line between them, g0 = 0. Tolerance: closed-form values rotated
-    /// in f64, a few ulp.
+    /// Four blocks at a crossing of two persistent joints (math note §5.2): the bedding line
+    /// through the origin at 30° (unit direction u) and the cross line at 120° (direction v =
+    /// perp(u)). In the (u, v) frame: slab A = [-1,0]×[0,1] (body 0), B = [-1,0]×[-1,0] below it
+    /// (1), C = [0,1]×[0,1] beside it (2), D = [0,1]×[-1,0] across the crossing (3). Every line
+    /// through the crossing carries an edge of each diagonal pair, so A-D and B-C make no contact;
+    /// A's corner is held by the joints A-B (normal ±v, the bedding's) and A-C (±u, the cross
+    /// joint's). Expected contacts at the crossing: one per side pair, each on the line between
+    /// them, g0 = 0. Tolerance: closed-form values rotated in f64, a few ulp.
     #[test]
     fn crossing_diagonal_blocks_make_no_corner_contact() {
         let a = 30f64.to_radians();
@@ -340,6 +338,47 @@ mod tests {
         assert!(
             got.iter().any(|c| c.point.norm() < TOL) && got.iter().any(|c| (c.point - corner).norm() < TOL)
         );
+    }
+
+    /// The shortest way out (math note §5.2): the
+    /// slab of `slab_past_crossing_rests_on_bedding`, s = 0.02 down the bedding, also sunk
+    /// δ = 0.005 into it (A = [-0.98,0.02]×[-0.005,0.995] in the (u, v) frame). Its corner
+    /// (0.02, -0.005) lies 0.005 behind D's top edge and 0.02 behind D's cross edge, and D's
+    /// corner (0, 0) 0.005 behind A's bottom edge and 0.02 behind A's cross edge: each corner's
+    /// shortest way out is the bedding, so the pair's only contacts are the joint's two ends on
+    /// it, n = ±v, g0 = -δ. Contacts on the cross edges (g0 = -0.02) would push the slab back
+    /// up the bedding. Tolerance: a few ulp of the rotated coordinates.
+    #[test]
+    fn penetrating_corner_leaves_by_the_shortest_way() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let got = contacts(0, 3, &sq(-0.98, -0.005), &sq(0.0, -1.0), D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        let v = crate::geometry::Vec2::new(v.0, v.1);
+        let ok = |c: &crate::contact::ContactGeom| {
+            c.normal.dot(&v).abs() > 1.0 - TOL && (c.g0 + 0.005).abs() < TOL && c.joint.is_some()
+        };
+        assert!(got.iter().all(ok), "{got:?}");
+    }
+
+    /// Flush sides (math note §5.2): B =
+    /// [0,1]×[0.999,1.999] (body 1) sunk δ = 0.001 into A = [0,1]² (body 0), side by side flush.
+    /// B's bottom corners lie δ behind A's top edge and on A's side lines, but B's bottom edge
+    /// runs inside across each side line, so a side is no way out for them: the joint keeps both
+    /// ends, B's vertices 0 and 1 on A's top edge (edge 2), n = -y, g0 = -δ, points at
+    /// y = 1 - δ/2. (A heavy block pressed into a light one sinks so, tests/mass_ratio.rs.)
+    /// Tolerance: a few ulp of coordinates of order 1.
+    #[test]
+    fn flush_sides_are_no_way_out() {
+        let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &rect(0.0, 0.999, 1.0, 1.999), D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        let y = 1.0 - 0.0005;
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), -0.001, (0.0, y), TOL);
+        check(&got[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), -0.001, (1.0, y), TOL);
     }
 
     /// Coincident corners with one common line: A = [-1,0]×[0,1] listed from (0,0), so its

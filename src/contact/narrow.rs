@@ -267,16 +267,25 @@ impl<'a> Polygon<'a> {
         start_ok && end_ok
     }
 
-    /// Whether `p`, `depth` = its height over edge f's line (negative: behind it), lies at
-    /// least as deep (to within the tie width, i.e. rounding) behind the edges next to edge f
-    /// at its convex ends: with `p` inside edge f's projection range, this says `p` is inside
-    /// the polygon near edge f and edge f is its shortest way out (math note §5, "Corners at a
-    /// joint crossing"). Non-convex ends need no test (there the region below edge f is
-    /// material).
-    pub fn behind_end_edges(&self, f: usize, p: Vec2, depth: f64, tol: &Tolerances) -> bool {
+    /// Whether vertex k of `x` (point `p`, `depth` = its height over edge f's line, negative:
+    /// behind it) has edge f as its shortest way out of this polygon near edge f (math note §5.2).
+    /// Each edge next to edge f at a convex end is a way out if the corner can cross its line, i.e.
+    /// passes the cone test for it; then `p` must lie at least as deep behind it as behind edge f
+    /// (to within the tie width, i.e. rounding). An edge the corner cannot cross (one of the
+    /// corner's own edges runs inside across its line, as when two blocks' sides are flush) is no
+    /// way out; `p` must only lie on its inner side (to within the tie width): beyond it is outside
+    /// the polygon, not a penetration. Non-convex ends need no test (there the region below edge f
+    /// is material).
+    pub fn behind_end_edges(&self, f: usize, x: &Polygon, k: usize, depth: f64, tol: &Tolerances) -> bool {
+        let p = x.vertices[k];
+        let shorter_exit = |g: usize| {
+            let e = self.edge(g);
+            let bound = if x.cone_clear(k, e.n_out, tol) { depth } else { 0.0 };
+            e.height(p) > bound + tol.tie
+        };
         let (start, end) = (f, self.next(f));
-        let before = !self.convex[start] || self.edge(self.prev(f)).height(p) <= depth + tol.tie;
-        let after = !self.convex[end] || self.edge(end).height(p) <= depth + tol.tie;
+        let before = !self.convex[start] || !shorter_exit(self.prev(f));
+        let after = !self.convex[end] || !shorter_exit(end);
         before && after
     }
 
@@ -338,19 +347,18 @@ mod tests {
 
     /// A threshold enlarged for a big step looks farther ahead, never deeper inside (math note
     /// §5): a 1 m block (body 1) 0.01 above a 0.3 m plate (body 0, [0,2]×[-0.3,0]), threshold
-    /// enlarged to 12.5 (a predicted fall of 5 m) with d0 = 0.1. The block's top corners lie
-    /// 1.31 behind the plate's bottom edge (edge 0, outward normal -y): contacts there, opposite
-    /// to those on the top face, made the pair's VI unbounded (a meshed block on a meshed base
-    /// diverged at dt = 1 s). Two rules exclude them: the penetration bound kept at d0, and the
-    /// shortest way out (they lie only 0.5 and 1.5 behind the plate's side edges), so even with
-    /// the enlargement as the bound no contact uses edge 0; the top face still holds the block.
+    /// enlarged to 12.5 (a predicted fall of 5 m) with d0 = 0.1. The block's bottom corners lie
+    /// 0.31 behind the plate's bottom edge (edge 0, outward normal -y): with the enlargement as
+    /// the penetration bound too they made contacts there, opposite to those on the top face, and
+    /// the pair's VI was unbounded (a meshed block on a meshed base diverged at dt = 1 s). With
+    /// the bound kept at d0 no contact uses edge 0; the top face still holds the block.
     #[test]
     fn enlarged_threshold_does_not_reach_through_a_plate() {
         let shapes = [rect(0.0, -0.3, 2.0, 0.0), rect(0.5, 0.01, 1.5, 1.01)];
         let through = |c: &[crate::contact::ContactGeom]| {
             c.iter().filter(|c| c.key.a == 0 && c.key.fa == Edge(0)).count()
         };
-        assert_eq!(through(&detect(&shapes, &[true, false], 12.5)), 0);
+        assert_eq!(through(&detect(&shapes, &[true, false], 12.5)), 2);
         let c = detect_reaching(&shapes, &[true, false], 12.5, 0.1);
         assert_eq!(through(&c), 0, "{c:?}");
         let top: Vec<_> = c.iter().filter(|c| (c.point.y - 0.005).abs() < 1e-12).collect();
