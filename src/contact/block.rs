@@ -92,26 +92,37 @@ pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol:
 
 /// Single vertex-edge contacts of the convex vertices of `x` against the edges of `y`
 /// (math note §5, paper Figure 4): the vertex must project inside the edge
-/// ([`Polygon::projects_inside`]). A = `y`, the edge owner.
+/// ([`Polygon::projects_inside`]) and not lie at a convex end vertex of the edge (within the merge
+/// distance): two corners there are a vertex-vertex pair, whichever way rounding puts the
+/// projection (math note §5.2). A = `y`, the edge owner.
 fn vertex_edges(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     for k in 0..x.vertex_count() {
         for f in 0..y.vertex_count() {
-            if vertex_edge_admissible(x, k, y, f, tol) && y.projects_inside(f, x.vertices[k]) {
+            let v = x.vertices[k];
+            let at_corner = [f, y.next(f)].into_iter().any(|m| coincident(y, m, v, tol));
+            if vertex_edge_admissible(x, k, y, f, tol) && y.projects_inside(f, v) && !at_corner {
                 out.push(vertex_edge_geom(x, k, y, f));
             }
         }
     }
 }
 
+/// Whether `p` lies within the merge distance of the convex vertex m of `poly`.
+fn coincident(poly: &Polygon, m: usize, p: Vec2, tol: &Tolerances) -> bool {
+    poly.convex[m] && (poly.vertices[m] - p).norm() <= tol.merge
+}
+
 /// Vertex-vertex contacts (math note §5; the paper defers to Shi's DDA): convex vertex V of
-/// `x` and convex vertex W of `y` closer than d0, neither projecting inside an edge incident to
-/// the other. Exactly one contact per such pair ([`separating_line`]).
+/// `x` and convex vertex W of `y` closer than d0, either coincident (within the merge distance,
+/// math note §5.2) or neither projecting inside an edge incident to the other. Exactly one
+/// contact per such pair ([`separating_line`]), or none at a joint crossing.
 fn vertex_vertex(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     for k in (0..x.vertex_count()).filter(|&k| x.convex[k]) {
         for m in (0..y.vertex_count()).filter(|&m| y.convex[m]) {
             let (v, w) = (x.vertices[k], y.vertices[m]);
             let close = (v - w).norm() < tol.threshold;
-            if close && !inside_incident(y, m, v) && !inside_incident(x, k, w) {
+            let apart = !inside_incident(y, m, v) && !inside_incident(x, k, w);
+            if close && (apart || coincident(y, m, v, tol)) {
                 out.extend(separating_line(x, k, y, m, tol));
             }
         }
@@ -314,6 +325,24 @@ mod tests {
                     && c[0].normal.dot(&crate::geometry::Vec2::new(n.0, n.1)).abs() > 1.0 - TOL
             );
         }
+    }
+
+    /// The crossing of `crossing_diagonal_blocks_make_no_corner_contact` as a cutter leaves it,
+    /// with rounding: D = [0,1]×[-1+ε, ε], ε = 1e-12, so A's corner (0, 0) lies on D's cross
+    /// line and projects ε inside D's cross edge. Corners within the merge distance (1e-3 here)
+    /// are a vertex-vertex pair whatever rounding says about projections (math note §5.2), so the
+    /// diagonal pair still makes no contact; a contact on D's cross edge would prop A's slide
+    /// down the bedding.
+    #[test]
+    fn crossing_within_rounding_makes_no_corner_contact() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let c = contacts(0, 3, &sq(-1.0, 0.0), &sq(0.0, -1.0 + 1e-12), D0);
+        assert!(c.iter().all(|c| c.point.norm() > 1e-9), "{c:?}");
     }
 
     /// The same crossing after the slab A has slid s = 0.02 down the bedding (along +u): its
