@@ -75,8 +75,10 @@ pub(super) fn seam_end(c: &ContactGeom, x: &Polygon, y: &Polygon, tol: &Toleranc
 /// its projection falls (math note §5, B-B vertex-edge): vertex k convex, g0 within
 /// (-d0, threshold) (d0 the penetration allowance, the threshold d0 or its enlargement), and the
 /// cone test (the edges at vertex k do not dip through the edge line). A penetrating vertex
-/// (g0 < 0) must also be inside `y` near the edge ([`Polygon::behind_end_edges`]): below the
-/// edge line but beyond a convex corner's other edge is outside `y`, not a penetration.
+/// (g0 < 0) must also be inside `y` near the edge, with this edge its shortest way out
+/// ([`Polygon::behind_end_edges`]): below the edge line but beyond a convex corner's other edge
+/// is outside `y`, not a penetration; a corner sliding along the other edge's line (a joint
+/// crossing) is pushed back onto that line, not through this edge.
 pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol: &Tolerances) -> bool {
     let e = y.edge(f);
     let v = x.vertices[k];
@@ -85,54 +87,87 @@ pub fn vertex_edge_admissible(x: &Polygon, k: usize, y: &Polygon, f: usize, tol:
         && g0 > -tol.depth
         && g0 < tol.threshold
         && x.cone_clear(k, e.n_out, tol)
-        && (g0 >= 0.0 || y.behind_end_edges(f, v, tol))
+        && (g0 >= 0.0 || y.behind_end_edges(f, x, k, g0, tol))
 }
 
 /// Single vertex-edge contacts of the convex vertices of `x` against the edges of `y`
 /// (math note §5, paper Figure 4): the vertex must project inside the edge
-/// ([`Polygon::projects_inside`]). A = `y`, the edge owner.
+/// ([`Polygon::projects_inside`]) and not lie at a convex end vertex of the edge (within the merge
+/// distance): two corners there are a vertex-vertex pair, whichever way rounding puts the
+/// projection (math note §5.2). A = `y`, the edge owner.
 fn vertex_edges(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     for k in 0..x.vertex_count() {
         for f in 0..y.vertex_count() {
-            if vertex_edge_admissible(x, k, y, f, tol) && y.projects_inside(f, x.vertices[k]) {
+            let v = x.vertices[k];
+            let at_corner = [f, y.next(f)].into_iter().any(|m| coincident(y, m, v, tol));
+            if vertex_edge_admissible(x, k, y, f, tol) && y.projects_inside(f, v) && !at_corner {
                 out.push(vertex_edge_geom(x, k, y, f));
             }
         }
     }
 }
 
+/// Whether `p` lies within the merge distance of the convex vertex m of `poly`.
+fn coincident(poly: &Polygon, m: usize, p: Vec2, tol: &Tolerances) -> bool {
+    poly.convex[m] && (poly.vertices[m] - p).norm() <= tol.merge
+}
+
 /// Vertex-vertex contacts (math note §5; the paper defers to Shi's DDA): convex vertex V of
-/// `x` and convex vertex W of `y` closer than d0, neither projecting inside an edge incident to
-/// the other. Exactly one contact per such pair ([`separating_line`]).
+/// `x` and convex vertex W of `y` closer than d0, either coincident (within the merge distance,
+/// math note §5.2) or neither projecting inside an edge incident to the other. Exactly one
+/// contact per such pair ([`separating_line`]), or none at a joint crossing.
 fn vertex_vertex(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<ContactGeom>) {
     for k in (0..x.vertex_count()).filter(|&k| x.convex[k]) {
         for m in (0..y.vertex_count()).filter(|&m| y.convex[m]) {
             let (v, w) = (x.vertices[k], y.vertices[m]);
             let close = (v - w).norm() < tol.threshold;
-            if close && !inside_incident(y, m, v) && !inside_incident(x, k, w) {
+            let apart = !inside_incident(y, m, v) && !inside_incident(x, k, w);
+            if close && (apart || coincident(y, m, v, tol)) {
                 out.extend(separating_line(x, k, y, m, tol));
             }
         }
     }
 }
 
-/// The one contact of corners V (vertex k of `x`) and W (vertex m of `y`), from four
-/// candidates: V against the two edge lines at W, and W against the two edge lines at V.
-/// Admissible: on the outer side of the line (g0 >= -merge distance) and passing the cone
-/// test, i.e. the line separates the two corners. Chosen: the largest g0 (the separating line
-/// with the widest gap). Tie-break (the note's approach-direction rule needs velocities, which
-/// detection does not have): among candidates within the tie width of the largest g0, the
-/// smallest contact key, i.e. the edge of the smaller body index, then the smaller edge index.
+/// The one contact of corners V (vertex k of `x`) and W (vertex m of `y`), from four candidates: V
+/// against the two edge lines at W, and W against the two edge lines at V. Admissible: on the outer
+/// side of the line (g0 >= -merge distance) and passing the cone test, i.e. the line separates the
+/// two corners. Chosen: the largest g0 (the separating line with the widest gap). Tie-break (the
+/// note's approach-direction rule needs velocities, which detection does not have), among
+/// candidates within the tie width of the largest g0: a line that carries an edge of each body (the
+/// corners meet end to end along it, [`on_common_line`]) before one that does not; if such lines
+/// run in two directions, the corners meet at a crossing of two joint lines and there is no contact
+/// (math note §5.2); then the smallest contact key, i.e. the edge of the smaller body index, then
+/// the smaller edge index.
 fn separating_line(x: &Polygon, k: usize, y: &Polygon, m: usize, tol: &Tolerances) -> Option<ContactGeom> {
     let candidates = [(x, k, y, m), (x, k, y, y.prev(m)), (y, m, x, k), (y, m, x, x.prev(k))];
-    let admissible: Vec<ContactGeom> = candidates
+    let admissible: Vec<(ContactGeom, bool)> = candidates
         .iter()
         .filter(|(a, ka, b, fb)| a.cone_clear(*ka, b.edge(*fb).n_out, tol))
-        .map(|(a, ka, b, fb)| vertex_edge_geom(a, *ka, b, *fb))
-        .filter(|c| c.g0 >= -tol.merge)
+        .map(|(a, ka, b, fb)| (vertex_edge_geom(a, *ka, b, *fb), on_common_line(a, *ka, b, *fb, tol)))
+        .filter(|(c, _)| c.g0 >= -tol.merge)
         .collect();
-    let best = admissible.iter().map(|c| c.g0).fold(f64::NEG_INFINITY, f64::max);
-    admissible.into_iter().filter(|c| c.g0 >= best - tol.tie).min_by_key(|c| c.key)
+    let best = admissible.iter().map(|(c, _)| c.g0).fold(f64::NEG_INFINITY, f64::max);
+    let tied: Vec<(ContactGeom, bool)> =
+        admissible.into_iter().filter(|(c, _)| c.g0 >= best - tol.tie).collect();
+    let common: Vec<&ContactGeom> = tied.iter().filter(|(_, on)| *on).map(|(c, _)| c).collect();
+    let crossing =
+        common.iter().any(|c| common.iter().any(|d| c.normal.dot(&d.normal).abs() < tol.cos_angle));
+    if crossing {
+        return None;
+    }
+    let preferred = !common.is_empty();
+    tied.into_iter().filter(|(_, on)| *on || !preferred).map(|(c, _)| c).min_by_key(|c| c.key)
+}
+
+/// Whether the line of edge `fb` of `b` (incident to b's corner) also carries an edge of `a`
+/// at its vertex `ka`: the vertex lies on the line (to the merge distance) and one of its two
+/// edges runs opposite to edge `fb` (to the angle tolerance), so the two bodies meet end to
+/// end along the line, as the blocks on either side of a persistent joint do at a crossing.
+fn on_common_line(a: &Polygon, ka: usize, b: &Polygon, fb: usize, tol: &Tolerances) -> bool {
+    let e = b.edge(fb);
+    let opposite = |f: usize| a.edge(f).t.dot(&e.t) <= -tol.cos_angle;
+    e.height(a.vertices[ka]).abs() <= tol.merge && (opposite(ka) || opposite(a.prev(ka)))
 }
 
 /// Whether `p` projects inside one of the two edges of `poly` incident to vertex m.
@@ -258,6 +293,137 @@ mod tests {
         let got = contacts(1, 0, &rect(1.03, 1.01, 2.03, 2.01), &rect(0.0, 0.0, 1.0, 1.0), D0);
         assert_eq!(got.len(), 1, "{got:?}");
         check(&got[0], key(0, Edge(1), 1, Vertex(0)), BB, (-1.0, 0.0), 0.03, (1.015, 1.01), TOL);
+    }
+
+    /// Four blocks at a crossing of two persistent joints (math note §5.2): the bedding line
+    /// through the origin at 30° (unit direction u) and the cross line at 120° (direction v =
+    /// perp(u)). In the (u, v) frame: slab A = [-1,0]×[0,1] (body 0), B = [-1,0]×[-1,0] below it
+    /// (1), C = [0,1]×[0,1] beside it (2), D = [0,1]×[-1,0] across the crossing (3). Every line
+    /// through the crossing carries an edge of each diagonal pair, so A-D and B-C make no contact;
+    /// A's corner is held by the joints A-B (normal ±v, the bedding's) and A-C (±u, the cross
+    /// joint's). Expected contacts at the crossing: one per side pair, each on the line between
+    /// them, g0 = 0. Tolerance: closed-form values rotated in f64, a few ulp.
+    #[test]
+    fn crossing_diagonal_blocks_make_no_corner_contact() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let shapes = [sq(-1.0, 0.0), sq(-1.0, -1.0), sq(0.0, 0.0), sq(0.0, -1.0)];
+        let near = |i: usize, j: usize| {
+            let c = contacts(i, j, &shapes[i], &shapes[j], D0);
+            c.into_iter().filter(|c| c.point.norm() < 1e-9).collect::<Vec<_>>()
+        };
+        assert!(near(0, 3).is_empty() && near(1, 2).is_empty());
+        for (i, j, n) in [(0, 1, v), (0, 2, u), (1, 3, u), (2, 3, v)] {
+            let c = near(i, j);
+            assert_eq!(c.len(), 1, "{i}-{j}: {c:?}");
+            assert!(
+                c[0].g0.abs() < TOL
+                    && c[0].normal.dot(&crate::geometry::Vec2::new(n.0, n.1)).abs() > 1.0 - TOL
+            );
+        }
+    }
+
+    /// The crossing of `crossing_diagonal_blocks_make_no_corner_contact` as a cutter leaves it,
+    /// with rounding: D = [0,1]×[-1+ε, ε], ε = 1e-12, so A's corner (0, 0) lies on D's cross
+    /// line and projects ε inside D's cross edge. Corners within the merge distance (1e-3 here)
+    /// are a vertex-vertex pair whatever rounding says about projections (math note §5.2), so the
+    /// diagonal pair still makes no contact; a contact on D's cross edge would prop A's slide
+    /// down the bedding.
+    #[test]
+    fn crossing_within_rounding_makes_no_corner_contact() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let c = contacts(0, 3, &sq(-1.0, 0.0), &sq(0.0, -1.0 + 1e-12), D0);
+        assert!(c.iter().all(|c| c.point.norm() > 1e-9), "{c:?}");
+    }
+
+    /// The same crossing after the slab A has slid s = 0.02 down the bedding (along +u): its
+    /// bottom edge overlaps D's top edge from (0, 0) to (0.02, 0) in the (u, v) frame, so the
+    /// pair's contacts are the two ends of that overlap, both on the bedding line: n = ±v,
+    /// g0 = 0, at the crossing and at A's corner. Tolerance: a few ulp of the rotated
+    /// coordinates.
+    #[test]
+    fn slab_past_crossing_rests_on_bedding() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let got = contacts(0, 3, &sq(-0.98, 0.0), &sq(0.0, -1.0), D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        let v = crate::geometry::Vec2::new(v.0, v.1);
+        let corner = at((0.02, 0.0));
+        let corner = crate::geometry::Vec2::new(corner.0, corner.1);
+        assert!(got.iter().all(|c| c.normal.dot(&v).abs() > 1.0 - TOL && c.g0.abs() < TOL), "{got:?}");
+        assert!(
+            got.iter().any(|c| c.point.norm() < TOL) && got.iter().any(|c| (c.point - corner).norm() < TOL)
+        );
+    }
+
+    /// The shortest way out (math note §5.2): the
+    /// slab of `slab_past_crossing_rests_on_bedding`, s = 0.02 down the bedding, also sunk
+    /// δ = 0.005 into it (A = [-0.98,0.02]×[-0.005,0.995] in the (u, v) frame). Its corner
+    /// (0.02, -0.005) lies 0.005 behind D's top edge and 0.02 behind D's cross edge, and D's
+    /// corner (0, 0) 0.005 behind A's bottom edge and 0.02 behind A's cross edge: each corner's
+    /// shortest way out is the bedding, so the pair's only contacts are the joint's two ends on
+    /// it, n = ±v, g0 = -δ. Contacts on the cross edges (g0 = -0.02) would push the slab back
+    /// up the bedding. Tolerance: a few ulp of the rotated coordinates.
+    #[test]
+    fn penetrating_corner_leaves_by_the_shortest_way() {
+        let a = 30f64.to_radians();
+        let (u, v) = ((a.cos(), a.sin()), (-a.sin(), a.cos()));
+        let at = |p: (f64, f64)| (p.0 * u.0 + p.1 * v.0, p.0 * u.1 + p.1 * v.1);
+        let sq = |x0: f64, y0: f64| {
+            polygon(&[(x0, y0), (x0 + 1.0, y0), (x0 + 1.0, y0 + 1.0), (x0, y0 + 1.0)].map(at))
+        };
+        let got = contacts(0, 3, &sq(-0.98, -0.005), &sq(0.0, -1.0), D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        let v = crate::geometry::Vec2::new(v.0, v.1);
+        let ok = |c: &crate::contact::ContactGeom| {
+            c.normal.dot(&v).abs() > 1.0 - TOL && (c.g0 + 0.005).abs() < TOL && c.joint.is_some()
+        };
+        assert!(got.iter().all(ok), "{got:?}");
+    }
+
+    /// Flush sides (math note §5.2): B =
+    /// [0,1]×[0.999,1.999] (body 1) sunk δ = 0.001 into A = [0,1]² (body 0), side by side flush.
+    /// B's bottom corners lie δ behind A's top edge and on A's side lines, but B's bottom edge
+    /// runs inside across each side line, so a side is no way out for them: the joint keeps both
+    /// ends, B's vertices 0 and 1 on A's top edge (edge 2), n = -y, g0 = -δ, points at
+    /// y = 1 - δ/2. (A heavy block pressed into a light one sinks so, tests/mass_ratio.rs.)
+    /// Tolerance: a few ulp of coordinates of order 1.
+    #[test]
+    fn flush_sides_are_no_way_out() {
+        let got = contacts(0, 1, &rect(0.0, 0.0, 1.0, 1.0), &rect(0.0, 0.999, 1.0, 1.999), D0);
+        assert_eq!(got.len(), 2, "{got:?}");
+        let y = 1.0 - 0.0005;
+        check(&got[0], key(0, Edge(2), 1, Vertex(0)), BB, (0.0, -1.0), -0.001, (0.0, y), TOL);
+        check(&got[1], key(0, Edge(2), 1, Vertex(1)), BB, (0.0, -1.0), -0.001, (1.0, y), TOL);
+    }
+
+    /// Coincident corners with one common line: A = [-1,0]×[0,1] listed from (0,0), so its
+    /// right edge is edge 0 and its bottom edge edge 3 (body 0), and the triangle D = (0,0),
+    /// (cos 60°, -sin 60°), (1, 0) (body 1), whose top edge lies on A's bottom line. The
+    /// admissible lines all give g0 = 0 (a tie): A's right line x = 0 (the smallest key, A's
+    /// edge 0) carries no edge of D; the bedding line y = 0 carries an edge of each, so it is
+    /// chosen, with its smallest key: D's vertex 0 on A's edge 3, A = body 0, n = +y, point (0, 0).
+    #[test]
+    fn coincident_corners_prefer_the_common_line() {
+        let (c, s) = (60f64.to_radians().cos(), 60f64.to_radians().sin());
+        let tri = polygon(&[(0.0, 0.0), (c, -s), (1.0, 0.0)]);
+        let a = polygon(&[(0.0, 0.0), (0.0, 1.0), (-1.0, 1.0), (-1.0, 0.0)]);
+        let got = contacts(0, 1, &a, &tri, D0);
+        assert_eq!(got.len(), 1, "{got:?}");
+        check(&got[0], key(0, Edge(3), 1, Vertex(0)), BB, (0.0, 1.0), 0.0, (0.0, 0.0), TOL);
     }
 
     /// Corners further apart than d0 (gap (0.08, 0.08), |V - W| = 0.113): nothing.

@@ -267,14 +267,25 @@ impl<'a> Polygon<'a> {
         start_ok && end_ok
     }
 
-    /// Whether `p` lies on the inner side (to within the tie width, i.e. rounding) of the
-    /// edges next to edge f at its convex ends: with `p` below edge f's line and inside its
-    /// projection range, this says `p` is inside the polygon near edge f. Non-convex ends
-    /// need no test (there the region below edge f is material).
-    pub fn behind_end_edges(&self, f: usize, p: Vec2, tol: &Tolerances) -> bool {
+    /// Whether vertex k of `x` (point `p`, `depth` = its height over edge f's line, negative:
+    /// behind it) has edge f as its shortest way out of this polygon near edge f (math note §5.2).
+    /// Each edge next to edge f at a convex end is a way out if the corner can cross its line, i.e.
+    /// passes the cone test for it; then `p` must lie at least as deep behind it as behind edge f
+    /// (to within the tie width, i.e. rounding). An edge the corner cannot cross (one of the
+    /// corner's own edges runs inside across its line, as when two blocks' sides are flush) is no
+    /// way out; `p` must only lie on its inner side (to within the tie width): beyond it is outside
+    /// the polygon, not a penetration. Non-convex ends need no test (there the region below edge f
+    /// is material).
+    pub fn behind_end_edges(&self, f: usize, x: &Polygon, k: usize, depth: f64, tol: &Tolerances) -> bool {
+        let p = x.vertices[k];
+        let shorter_exit = |g: usize| {
+            let e = self.edge(g);
+            let bound = if x.cone_clear(k, e.n_out, tol) { depth } else { 0.0 };
+            e.height(p) > bound + tol.tie
+        };
         let (start, end) = (f, self.next(f));
-        let before = !self.convex[start] || self.edge(self.prev(f)).height(p) <= tol.tie;
-        let after = !self.convex[end] || self.edge(end).height(p) <= tol.tie;
+        let before = !self.convex[start] || !shorter_exit(self.prev(f));
+        let after = !self.convex[end] || !shorter_exit(end);
         before && after
     }
 
