@@ -12,9 +12,12 @@
 //! The files are `DIR/checkpoint.toml` and the state it names, `DIR/state-NNNNNNNN.bin` (the
 //! step in its name): the state is written first, then checkpoint.toml, each to a temporary
 //! file renamed into place, and only then is the previous state removed; so a run killed while
-//! writing leaves the previous checkpoint whole. The state file starts with [`STATE_MAGIC`]
-//! and [`VERSION`] and an FNV-1a hash of the scene text; a checkpoint of another version, or a
-//! state of another scene, is refused with an error that says so.
+//! writing leaves the previous checkpoint whole. A state file ([`encode`], [`decode`]) is
+//! [`STATE_MAGIC`], [`VERSION`] (u32), an FNV-1a hash of the scene text (u64), a block that a
+//! caller keeps beside the world, length first (u64; empty for `pbdda run`, a sweep case's
+//! running table for `pbdda sweep --run-plan`), then [`World::state`]; integers little-endian.
+//! A checkpoint of another version, or a state of another scene, is refused with an error that
+//! says so. The state is binary (postcard) so that every f64 is kept bit for bit.
 
 use serde::{Deserialize, Serialize};
 use std::fs;

@@ -244,3 +244,53 @@ ultimate_strain = 0.05
 "#
     .to_owned()
 }
+
+fn fails(args: &[&str]) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(args).output().expect("the binary runs");
+    assert!(!o.status.success(), "pbdda {args:?} should fail");
+    // one line: miette wraps long messages and draws a margin
+    String::from_utf8_lossy(&o.stderr).replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Checkpoints `resume` must refuse, each with the reason: one of format version 1 (which held
+/// no state), a state file of another scene (the FNV-1a hash of the scene text in its header
+/// differs), a state file cut short, and a state file that is not one.
+#[test]
+fn foreign_checkpoints_are_refused() {
+    let dir = scratch("foreign");
+    let scene = example("7_1_disk_heap.toml");
+    let (out, d) = (dir.join("out"), dir.to_str().unwrap().to_owned());
+    pbdda(&[
+        "run",
+        "-q",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "output.vtk=false",
+    ]);
+    let mut world = World::new(pbdda::scene::load(&scene).expect("scene"));
+    world.step().expect("step");
+    let text = fs::read_to_string(&scene).expect("scene text");
+    let mut c = Checkpoint::new(scene.to_str().unwrap(), text.clone(), vec![], 1);
+    c.save(&out, &world).expect("checkpoint");
+    let o = out.to_str().unwrap();
+    let good = fs::read_to_string(out.join("checkpoint.toml")).expect("checkpoint.toml");
+    fs::write(out.join("checkpoint.toml"), good.replace("version = 2", "version = 1")).expect("write");
+    let e = fails(&["resume", o]);
+    assert!(e.contains("not a pbdda checkpoint: version 1 (this pbdda reads version 2)"), "{e}");
+    let state = out.join(&c.state);
+    let bytes = fs::read(&state).expect("state");
+    let other = Checkpoint { scene: text.replace("[scene]", "[scene]\n# edited"), ..c.clone() };
+    other.write(&out).expect("checkpoint.toml");
+    let e = fails(&["resume", o]);
+    assert!(e.contains("the state is of another scene"), "{e}");
+    c.write(&out).expect("checkpoint.toml");
+    fs::write(&state, &bytes[..bytes.len() / 2]).expect("cut state");
+    let e = fails(&["resume", o]);
+    assert!(e.contains("not a pbdda checkpoint: the state cannot be decoded"), "{e}");
+    fs::write(&state, b"[scene]\n").expect("not a state");
+    let e = fails(&["resume", o]);
+    assert!(e.contains("not a pbdda checkpoint: no pbdda state header"), "{e}");
+    fs::remove_dir_all(&d).ok();
+}
