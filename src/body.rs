@@ -38,7 +38,7 @@ pub fn max_displacement(d: &[f64], reach: f64) -> f64 {
 }
 
 /// The body's outline in the current configuration.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub enum Outline {
     Disk {
         radius: f64,
@@ -56,7 +56,7 @@ pub enum Outline {
 }
 
 /// Area and central second moments of the current outline (math note §2.1).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, serde::Serialize, serde::Deserialize)]
 struct Moments {
     area: f64,
     sxx: f64,
@@ -65,7 +65,7 @@ struct Moments {
 }
 
 /// One body: its constant properties and its state at the start of the current step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Body {
     pub name: String,
     pub material: usize,

@@ -24,10 +24,12 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 mod dense;
 mod inverse;
+mod snapshot;
 mod sparse;
 pub use dense::DENSE_MAX;
 pub(crate) use dense::block_times;
 use dense::{Dense, body_solve};
+pub use snapshot::FlexState;
 pub use sparse::{SparseError, SparseFactor};
 use std::sync::Arc;
 
@@ -84,7 +86,7 @@ const NONE: u32 = u32::MAX;
 
 /// The geometry a sparse cluster's factor was formed on: each member's mesh nodes, or its
 /// rotation for a block or particle (whose connector blocks turn with it).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 enum Formed {
     Mesh(Vec<crate::geometry::Vec2>),
     Rotation(f64),

@@ -45,7 +45,7 @@ pub fn is_zero_length(a: Vec2, b: Vec2) -> bool {
 }
 
 /// The force a connector carries from one step into the next (math note §6).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ConnectorForce {
     /// Bolt or finite spring: axial force N [N], tension positive, along the anchors' line.
     Axial(f64),
@@ -59,7 +59,7 @@ pub enum ConnectorForce {
 }
 
 /// A bolt, spring or beam between two bodies, in its state at the start of the current step.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Connector {
     pub name: String,
     pub kind: ConnectorKind,

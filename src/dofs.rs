@@ -11,7 +11,7 @@ use crate::body::{Body, Dofs};
 use std::ops::Range;
 
 /// Body → DOF range, and body → cluster.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct DofMap {
     start: Vec<usize>,
     count: Vec<usize>,

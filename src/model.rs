@@ -341,7 +341,7 @@ impl Load {
 }
 
 /// What a connector is, with its constants (paper §5; math note §6).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ConnectorKind {
     /// Axial spring `k l lᵀ` of finite length; isotropic `k I` at zero length (typo 16).
     Spring {

@@ -415,8 +415,8 @@ fn an_unmet_until_kinetic_ends_the_stage_at_its_end_with_a_note() {
 /// A staged run with a removal and a bolt installed at a stage, resumed from a checkpoint at
 /// step 70 (in its second stage), writes the same bytes as one that ran through (steps.csv but
 /// its wall time). The interrupted run is made exactly: a finished run's folder with the
-/// checkpoint `--checkpoint-every 35` writes at step 70; `resume` cuts every CSV back to step 70,
-/// replays 70 steps and goes on.
+/// checkpoint `--checkpoint-every 35` writes at step 70 (the state of a world stepped 70 times);
+/// `resume` cuts every CSV back to step 70, loads the state and goes on.
 #[test]
 fn a_resumed_staged_run_writes_the_same_bytes() {
     let dir = scratch("resume");
@@ -430,16 +430,13 @@ fn a_resumed_staged_run_writes_the_same_bytes() {
     let (whole, cut) = (dir.join("whole"), dir.join("cut"));
     assert!(run_cli(&scene, &whole, &[]));
     assert!(run_cli(&scene, &cut, &[]));
-    let checkpoint = pbdda::checkpoint::Checkpoint {
-        version: 1,
-        scene_file: scene.display().to_string(),
-        scene: text,
-        overrides: vec![],
-        every: 35,
-        step: 70,
-        stage: Some("support".into()),
-    };
-    checkpoint.write(&cut).expect("checkpoint");
+    let mut world = World::new(pbdda::scene::load(&scene).expect("scene"));
+    for _ in 0..70 {
+        world.step().expect("step");
+    }
+    let mut checkpoint = pbdda::checkpoint::Checkpoint::new(&scene.display().to_string(), text, vec![], 35);
+    checkpoint.save(&cut, &world).expect("checkpoint");
+    assert_eq!((checkpoint.step, checkpoint.stage.as_deref()), (70, Some("support")));
     let status = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(["resume", "-q"]).arg(&cut).status().unwrap();
     assert!(status.success());
     for file in ["bodies.csv", "contacts.csv", "monitors.csv", "connectors.csv"] {

@@ -116,20 +116,15 @@ pub(super) fn run(
         let list: Vec<String> = set.iter().map(|o| o.to_string()).collect();
         writers.log(&format!("overrides: --set {}", list.join(" --set ")))?;
     }
-    let checkpoint = checkpoint_every.map(|every| Checkpoint {
-        version: 1,
-        scene_file: scene_path.display().to_string(),
-        scene: source,
-        overrides: set.iter().map(|o| o.to_string()).collect(),
-        every,
-        step: 0,
-        stage: None,
+    let checkpoint = checkpoint_every.map(|every| {
+        let overrides = set.iter().map(|o| o.to_string()).collect();
+        Checkpoint::new(&scene_path.display().to_string(), source.clone(), overrides, every)
     });
     drive(&mut world, &mut writers, Plan { out, quiet, checkpoint })
 }
 
-/// `pbdda resume DIR`: rebuilds the run from `DIR/checkpoint.toml`, replays its steps without
-/// output (see [`crate::checkpoint`]), cuts the CSVs back to the checkpoint's step and goes on.
+/// `pbdda resume DIR`: rebuilds the scene of `DIR/checkpoint.toml`, loads the state saved with
+/// it (see [`crate::checkpoint`]), cuts the CSVs back to the checkpoint's step and goes on.
 pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
     let checkpoint = Checkpoint::read(dir)?;
     let overrides = checkpoint
@@ -138,18 +133,7 @@ pub(super) fn resume(dir: &Path, quiet: bool) -> Result<()> {
         .map(|s| s.parse::<Override>().map_err(|e| miette!("{}: --set {s}: {e}", dir.display())))
         .collect::<Result<Vec<_>>>()?;
     let model = scene::parse_with(&checkpoint.scene, &checkpoint.scene_file, &overrides)?;
-    let mut world = World::new(model);
-    // the replayed steps write nothing: no contact records
-    world.settings.contact_records = false;
-    for _ in 0..checkpoint.step {
-        world.step().map_err(|e| miette!("replaying to the checkpoint: {e}"))?;
-    }
-    if checkpoint.stage.as_deref() != world.stage_name() {
-        let (want, got) = (checkpoint.stage.as_deref(), world.stage_name());
-        return Err(miette!(
-            "replaying to the checkpoint: it was taken in stage {want:?}, the replay is in {got:?}"
-        ));
-    }
+    let mut world = checkpoint.load(dir, model)?;
     let m = &world.model;
     let csv = CsvWriter::reopen(dir, (m.output.every, m.output.steps_every), m.time.steps, checkpoint.step)?;
     // the ParaView series is not continued: its index would need the earlier frames' times
@@ -190,25 +174,23 @@ fn drive(world: &mut World, writers: &mut Writers, mut plan: Plan) -> Result<()>
         if let Some(c) = &mut plan.checkpoint
             && rec.step % c.every == 0
         {
-            c.step = rec.step;
-            c.stage = world.stage_name().map(str::to_owned);
-            c.write(plan.out)?;
+            c.save(plan.out, world)?;
         }
         if stop.load(Ordering::SeqCst) && !world.finished() {
             progress.finish();
+            if let Some(c) = &mut plan.checkpoint {
+                // resume goes on from here, not from the last multiple of `every`
+                c.save(plan.out, world)?;
+            }
             let line = format!("interrupted at step {}", rec.step);
             writers.log(&line)?;
             return Err(miette!("{line} (results up to it are in {})", plan.out.display()));
         }
     }
     progress.finish();
-    if plan.checkpoint.is_some() {
-        // a finished run needs no restart file (and `resume` of it would only replay)
-        let path = plan.out.join(crate::checkpoint::CHECKPOINT_FILE);
-        match std::fs::remove_file(&path) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e).into_diagnostic(),
-            _ => {}
-        }
+    if let Some(c) = &plan.checkpoint {
+        // a finished run needs no restart file
+        c.remove(plan.out)?;
     }
     summary.wall_seconds = started.elapsed().as_secs_f64();
     writers.log(&summary.log_line())?;

@@ -88,7 +88,7 @@ impl Tree {
 
 /// The kept pieces of one group: the slots (in S) of the DOFs whose paths pass through it and
 /// their pieces, column-major, one column of the group's size per slot.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 struct Panel {
     slots: Vec<usize>,
     values: Vec<f64>,
@@ -96,7 +96,7 @@ struct Panel {
 
 /// The symmetric block `(K⁻¹)_SS` over a growing set S of DOFs, with the pieces of every
 /// member's `y` kept per group so that DOFs joining S need only their own forward solves.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub(super) struct InverseCache {
     /// DOF → its index in S (the order in which DOFs joined).
     pub(super) slot: HashMap<usize, usize>,

@@ -121,6 +121,44 @@ impl SparseFactor {
         Ok(())
     }
 
+    /// Size, pattern and numeric values (a checkpoint's state, `snapshot.rs`).
+    pub(super) fn parts(&self) -> (usize, &[(usize, usize)], Option<&Vec<f64>>) {
+        (self.n, &self.pattern, self.numeric.as_ref())
+    }
+
+    /// A copy of the cached block of K⁻¹ (a checkpoint's state, `snapshot.rs`).
+    pub(super) fn inverse_cache(&self) -> InverseCache {
+        self.inverse.lock().map(|c| c.clone()).unwrap_or_else(|e| e.into_inner().clone())
+    }
+
+    /// The symbolic analysis of an `n × n` lower-triangle `pattern` (sorted, deduplicated), as
+    /// [`Self::factorize`] does it for a matrix of that pattern.
+    pub(super) fn analyse(
+        n: usize,
+        pattern: &[(usize, usize)],
+    ) -> Result<Arc<(SymbolicCholesky<usize>, Tree)>, SparseError> {
+        let error = |e: &dyn std::fmt::Debug| SparseError(format!("{e:?}"));
+        let entries: Vec<Triplet<usize, usize, f64>> =
+            pattern.iter().map(|&(r, c)| Triplet::new(r, c, 1.0)).collect();
+        let mat = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &entries).map_err(|e| error(&e))?;
+        let symbolic =
+            factorize_symbolic_cholesky(mat.symbolic(), Side::Lower, Default::default(), Default::default())
+                .map_err(|e| error(&e))?;
+        let tree = Tree::new(&symbolic);
+        Ok(Arc::new((symbolic, tree)))
+    }
+
+    /// A factor from its parts (`snapshot.rs`).
+    pub(super) fn from_parts(
+        n: usize,
+        pattern: Vec<(usize, usize)>,
+        symbolic: Option<Arc<(SymbolicCholesky<usize>, Tree)>>,
+        numeric: Option<Vec<f64>>,
+        inverse: Mutex<InverseCache>,
+    ) -> SparseFactor {
+        SparseFactor { n, pattern, symbolic, numeric, inverse }
+    }
+
     /// `(K⁻¹)_SS` for the DOFs `dofs` (distinct), column-major `|S| × |S|`: read from the
     /// cached block, after the forward solves of the DOFs not in it yet along their paths in
     /// the factor (math note §9.3). Zeros before a successful factorization.

@@ -88,7 +88,7 @@ pub fn label_mesh_kind(g: &mut ContactGeom, mesh: impl Fn(usize) -> bool) {
 }
 
 /// Which features of the two bodies touch; part of the persistent contact key.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub enum Feature {
     /// The whole outer circle of a particle.
     Outer,
@@ -100,7 +100,7 @@ pub enum Feature {
 
 /// Persistent identity of a contact across steps (warm start, "was closed" memory).
 /// `a` is the body the normal points into (math note §0), `b` the other.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 pub struct ContactKey {
     pub a: u32,
     pub fa: Feature,

@@ -6,7 +6,7 @@ use crate::model::Interface;
 use std::collections::HashMap;
 
 /// What a contact carries over to the next step (warm start and "was closed" memory).
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Memory {
     /// Normal force, tangential force and rolling couple of the last step.
     pub force: [f64; 3],
@@ -19,7 +19,7 @@ pub struct Memory {
 /// Memory of all contacts of the last step, sorted by persistent key. Contacts are detected
 /// sorted by key, so the memory is built without sorting and read in detection order by a
 /// merge ([`Lookup`]): no hashing in the step.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ContactMemory {
     entries: Vec<(ContactKey, Memory)>,
 }

@@ -15,7 +15,7 @@ use crate::model::MeshShape;
 const LOCATE_TIE: f64 = 1e-12;
 
 /// One mesh body in its current configuration.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct MeshBody {
     /// Node positions at t = 0.
     pub reference: Vec<Vec2>,
@@ -26,7 +26,9 @@ pub struct MeshBody {
     pub displacement: Vec<Vec2>,
     /// Counter-clockwise triangles (node indices).
     pub triangles: Vec<[usize; 3]>,
-    /// Sparse pattern over the free nodes' DOFs.
+    /// Sparse pattern over the free nodes' DOFs (a function of the mesh: not in a checkpoint's
+    /// state, which takes it from the scene's body).
+    #[serde(skip)]
     pub pattern: Pattern,
     /// Whether any node is fixed (then no rigid split in the update, §9.4).
     pub has_fixed: bool,

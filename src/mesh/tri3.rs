@@ -101,7 +101,7 @@ pub fn gather(u: &[f64], tri: [usize; 3]) -> Vec6 {
 
 /// Sparse pattern of a mesh's global matrices (CSC, symmetric, both triangles stored), built once;
 /// values are refilled per step by [`Pattern::assemble`]. Fixed nodes have no DOFs.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Pattern {
     /// Number of DOFs: twice the number of free nodes.
     pub n_dof: usize,

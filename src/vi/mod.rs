@@ -435,6 +435,17 @@ impl Solver {
         self.stats
     }
 
+    /// The MPRGP step length the next solve takes as its guess: what the solver carries from
+    /// one step to the next (a checkpoint keeps it; the rest of the workspace is scratch).
+    pub fn step_length(&self) -> Option<f64> {
+        self.step_length
+    }
+
+    /// Sets [`Self::step_length`] (a run resumed from a checkpoint).
+    pub fn set_step_length(&mut self, step_length: Option<f64>) {
+        self.step_length = step_length;
+    }
+
     /// G = q + W z at the z the last [`Self::solve`] returned, from the full product W z its
     /// last sweep made (W z = D^{1/2} Ŵ y), without a new product; `None` when there is no such
     /// product: the solve did not converge, ran NSGS, or its answer moved by more than one

@@ -14,10 +14,11 @@
 //! 6 record        StepRecord, typed warnings and events           record.rs
 //! ```
 //!
-//! [`World`] holds the state a checkpoint would save (bodies, contact memory, time); the
-//! [`Pipeline`] it carries holds scratch only (the VI workspace, W's assembly storage, the
-//! Jacobians of earlier passes and the refinement's shape buffers),
-//! reused across steps.
+//! [`World`] holds the state a checkpoint saves ([`World::state`], `snapshot.rs`: bodies,
+//! contact memory, connectors, stage, kept factors, time); the [`Pipeline`] it carries holds
+//! scratch (the VI workspace, W's assembly storage, the Jacobians of earlier passes, the
+//! refinement's shape buffers, the broad phase's pairs), reused across steps, and one value
+//! that is state: the VI solver's MPRGP step-length guess, which the checkpoint saves too.
 
 use crate::body::{Body, Dofs};
 use crate::cluster::Flexibility;
@@ -39,6 +40,7 @@ mod predict;
 mod record;
 mod refine;
 mod rows;
+mod snapshot;
 mod solve;
 mod stages;
 mod update;
@@ -46,6 +48,7 @@ mod velocity;
 
 pub use adaptive::Trouble;
 pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
+pub use snapshot::StateError;
 pub use stages::{StageEnd, StageState};
 
 /// Library-level switches that are not part of the scene format.
@@ -93,14 +96,15 @@ impl Default for Settings {
 }
 
 /// A material point that moves with its body (load points, monitors).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct TrackedPoint {
     pub body: usize,
     pub initial: Vec2,
     pub current: Vec2,
 }
 
-/// Scratch memory of the step, reused across steps; nothing in it is state.
+/// Scratch memory of the step, reused across steps; nothing in it is state but the VI
+/// solver's step-length guess ([`crate::vi::Solver::step_length`], saved by a checkpoint).
 #[derive(Clone, Default)]
 pub struct Pipeline {
     vi: crate::vi::Solver,

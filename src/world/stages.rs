@@ -20,7 +20,7 @@ use crate::geometry::Vec2;
 use crate::model::{ConnectorSpec, QUIET_STEPS, history_factor};
 
 /// Where a staged run is (all empty or zero in a run without stages).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct StageState {
     /// Index into `Model::stages` of the current stage.
     pub current: usize,
@@ -30,7 +30,9 @@ pub struct StageState {
     pub removed: Vec<bool>,
     /// Per connector: not yet in being.
     pub pending: Vec<bool>,
-    /// Stage starts for the next step's record.
+    /// Stage starts for the next step's record (empty between steps after the first: not in a
+    /// checkpoint's state).
+    #[serde(skip)]
     events: Vec<Event>,
 }
 
@@ -120,10 +122,7 @@ impl World {
             // the velocity the last stage's carry leaves (a static stage hands over bodies at rest)
             self.scale_velocities(self.model.physics.velocity_carry);
         }
-        let s = stage.settings;
-        (self.model.physics, self.model.solver) = (s.physics, s.solver);
-        (self.model.interfaces, self.model.loads, self.model.gravity_history) =
-            (s.interfaces, s.loads, s.gravity_history);
+        self.current_settings(stage.settings);
         let step = self.step_index + 1;
         let mut removed = Vec::new();
         for &b in &stage.remove {
@@ -147,6 +146,21 @@ impl World {
         self.stage.quiet = 0;
         let (time, stage) = (self.time, stage.name);
         self.stage.events.push(Event::StageStarted { step, time, stage, removed, connectors, unborn });
+    }
+
+    /// The model with the settings of the current stage, as its start set them (a world loaded
+    /// from a checkpoint's state, `snapshot.rs`).
+    pub(super) fn stage_settings(&mut self) {
+        if let Some(stage) = self.model.stages.get(self.stage.current) {
+            self.current_settings(stage.settings.clone());
+        }
+    }
+
+    /// Makes `s` the model's physics, solver, interfaces, loads and gravity history.
+    fn current_settings(&mut self, s: crate::model::StageSettings) {
+        (self.model.physics, self.model.solver) = (s.physics, s.solver);
+        (self.model.interfaces, self.model.loads, self.model.gravity_history) =
+            (s.interfaces, s.loads, s.gravity_history);
     }
 
     /// Takes body `b` out of the run before step `step`: fixed, at rest, seen by no contact;

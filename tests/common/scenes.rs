@@ -64,6 +64,11 @@ friction = 0.5
 /// A box 8 m wide; 36 disks (radius 0.25-0.4) on a jittered grid, six blocks and one
 /// deformable block above them, all falling.
 pub fn settling() -> Model {
+    pbdda::scene::parse(&settling_text(), "settling.toml").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The text of [`settling`].
+pub fn settling_text() -> String {
     let mut s = String::new();
     header(&mut s, 0.01, 1e-8, 20_000);
     let fixed = "material = \"rock\"\nfixed = true";
@@ -86,5 +91,5 @@ pub fn settling() -> Model {
     }
     let soft = "material = \"rock\"\nmodel = \"deformable\"\nangular_velocity = 0.5";
     rectangle(&mut s, "slab", 2.0, 9.0, 5.0, 9.6, soft);
-    pbdda::scene::parse(&s, "settling.toml").unwrap_or_else(|e| panic!("{e}"))
+    s
 }

@@ -79,48 +79,73 @@ impl CaseResult {
     }
 }
 
-/// Runs `model` to its end; a step that fails ends the case with its error message.
-pub fn run_case(model: Model, index: usize, label: &str, quiet: bool) -> CaseResult {
+/// Where a case of a plan keeps its state while it runs (`--run-plan`): a state file
+/// ([`crate::checkpoint::encode`]) saved every `every` steps, with the case's running table
+/// beside the world. A case that finds the file goes on from it; the file is removed when the
+/// case's result is written.
+pub struct CaseCheckpoint<'a> {
+    pub path: std::path::PathBuf,
+    pub every: usize,
+    /// The case's scene text (the state is tied to it).
+    pub scene: &'a str,
+}
+
+/// What a case has measured so far, saved with its state.
+#[derive(Default, Serialize, Deserialize)]
+struct Running {
+    run: SweepRun,
+    /// The last two totals of every pair that has been in contact.
+    history: BTreeMap<String, [f64; 2]>,
+}
+
+/// Runs `model` to its end (from `checkpoint`'s state when there is one); a step that fails
+/// ends the case with its error message.
+pub fn run_case(
+    model: Model,
+    index: usize,
+    label: &str,
+    quiet: bool,
+    checkpoint: Option<&CaseCheckpoint>,
+) -> CaseResult {
     let steps = model.time.steps;
-    let mut world = World::new(model);
+    let (mut world, mut running) = match checkpoint.filter(|c| c.path.exists()) {
+        Some(c) => match resumed(c, model) {
+            Ok(found) => found,
+            Err(e) => return CaseResult { index, error: Some(e), run: None },
+        },
+        None => (
+            World::new(model),
+            Running { run: SweepRun { steps, ..SweepRun::default() }, ..Running::default() },
+        ),
+    };
     let mode = if quiet { ProgressMode::Quiet } else { ProgressMode::detect(false) };
     if !quiet {
-        errln!("case {index} ({label}): {steps} steps");
-    }
-    let mut progress = Progress::new(steps, mode);
-    let mut run = SweepRun { steps, ..SweepRun::default() };
-    let started = Instant::now();
-    // the last two totals of every pair that has been in contact
-    let mut history: BTreeMap<String, [f64; 2]> = BTreeMap::new();
-    for _ in 0..steps {
-        if world.finished() {
-            // a staged run whose last stage ended early (`until_kinetic`)
-            break;
+        match world.step_index {
+            0 => errln!("case {index} ({label}): {steps} steps"),
+            s => errln!("case {index} ({label}): {steps} steps, resumed at step {s}"),
         }
+    }
+    let mut progress = Progress::new(steps - world.step_index.min(steps), mode);
+    let started = Instant::now();
+    let wall = running.run.wall_seconds;
+    // a staged run whose last stage ended early (`until_kinetic`) is finished before `steps`
+    while world.step_index < steps && !world.finished() {
         let rec = match world.step() {
             Ok(rec) => rec,
             Err(e) => return CaseResult { index, error: Some(e.to_string()), run: None },
         };
-        run.iterations += rec.inner_iterations;
-        let mut pairs: BTreeMap<String, f64> = BTreeMap::new();
-        for c in &rec.contacts {
-            let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
-            let pair = if a <= b { format!("{a}/{b}") } else { format!("{b}/{a}") };
-            *pairs.entry(pair).or_default() += c.normal_force;
-        }
-        for pair in pairs.keys().chain(run.final_force.keys()) {
-            history.entry(pair.clone()).or_default();
-        }
-        for (pair, h) in history.iter_mut() {
-            let f = pairs.get(pair).copied().unwrap_or(0.0);
-            let peak = run.peak_force.entry(pair.clone()).or_insert(f64::NEG_INFINITY);
-            *peak = peak.max(refined_peak(h, f));
-        }
-        run.final_force = pairs;
+        running.measure(&world, &rec);
         progress.step(&rec);
+        if let Some(c) = checkpoint.filter(|c| rec.step % c.every.max(1) == 0 && rec.step < steps) {
+            running.run.wall_seconds = wall + started.elapsed().as_secs_f64();
+            if let Err(e) = save(c, &world, &running) {
+                return CaseResult { index, error: Some(e), run: None };
+            }
+        }
     }
     progress.finish();
-    run.wall_seconds = started.elapsed().as_secs_f64();
+    let mut run = running.run;
+    run.wall_seconds = wall + started.elapsed().as_secs_f64();
     run.end_time = world.time;
     for (m, p) in world.model.monitors.iter().zip(&world.monitors) {
         let (c, d) = (p.current, p.current - p.initial);
@@ -132,6 +157,45 @@ pub fn run_case(model: Model, index: usize, label: &str, quiet: bool) -> CaseRes
         run.connectors.insert(c.name.clone(), end);
     }
     CaseResult { index, error: None, run: Some(run) }
+}
+
+impl Running {
+    /// Adds a step: its iterations, and each body pair's total normal force to the peaks.
+    fn measure(&mut self, world: &World, rec: &crate::world::StepRecord) {
+        let run = &mut self.run;
+        run.iterations += rec.inner_iterations;
+        let mut pairs: BTreeMap<String, f64> = BTreeMap::new();
+        for c in &rec.contacts {
+            let (a, b) = (&world.bodies[c.body_a].name, &world.bodies[c.body_b].name);
+            let pair = if a <= b { format!("{a}/{b}") } else { format!("{b}/{a}") };
+            *pairs.entry(pair).or_default() += c.normal_force;
+        }
+        for pair in pairs.keys().chain(run.final_force.keys()) {
+            self.history.entry(pair.clone()).or_default();
+        }
+        for (pair, h) in self.history.iter_mut() {
+            let f = pairs.get(pair).copied().unwrap_or(0.0);
+            let peak = run.peak_force.entry(pair.clone()).or_insert(f64::NEG_INFINITY);
+            *peak = peak.max(refined_peak(h, f));
+        }
+        run.final_force = pairs;
+    }
+}
+
+/// Saves the case's state (atomically: `crate::checkpoint::write_atomic`).
+fn save(c: &CaseCheckpoint, world: &World, running: &Running) -> Result<(), String> {
+    let extra = postcard::to_stdvec(running).map_err(|e| format!("{}: {e}", c.path.display()))?;
+    let bytes = crate::checkpoint::encode(c.scene, world, &extra);
+    crate::checkpoint::write_atomic(&c.path, &bytes).map_err(|e| e.to_string())
+}
+
+/// The world and running table of a case's state file.
+fn resumed(c: &CaseCheckpoint, model: Model) -> Result<(World, Running), String> {
+    let bytes = std::fs::read(&c.path).map_err(|e| format!("{}: {e}", c.path.display()))?;
+    let (extra, world) =
+        crate::checkpoint::decode(&c.path, &bytes, c.scene, model).map_err(|e| e.to_string())?;
+    let running = postcard::from_bytes(extra).map_err(|e| format!("{}: {e}", c.path.display()))?;
+    Ok((world, running))
 }
 
 /// Feeds the next step's force `f` of a pair whose last two values are `h`; returns the best

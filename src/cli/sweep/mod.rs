@@ -193,7 +193,7 @@ pub fn sweep(
     let mut results = Vec::new();
     for (i, case) in plan.cases.iter().enumerate() {
         let model = plan.model(source, file, i)?;
-        results.push(measure::run_case(model, i, &case.label(), options.quiet));
+        results.push(measure::run_case(model, i, &case.label(), options.quiet, None));
     }
     Ok(SweepReport::new(&plan, results))
 }
@@ -231,6 +231,10 @@ pub struct SweepArgs {
     /// With --run-plan: run the cases whose index % N == I (0 <= I < N).
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
+    /// With --run-plan: a running case saves its state every N steps (default 1000); a shard
+    /// run again goes on with an interrupted case from it.
+    #[arg(long, value_name = "N")]
+    pub checkpoint_every: Option<usize>,
     /// Merge the results of a plan's cases into DIR/sweep.csv (or --out).
     #[arg(long, value_name = "DIR")]
     pub collect: Option<PathBuf>,
@@ -304,9 +308,13 @@ pub fn command(args: &SweepArgs) -> Result<()> {
     if args.shard.is_some() && args.run_plan.is_none() {
         return Err(miette!("--shard I/N goes with --run-plan DIR"));
     }
+    if args.checkpoint_every.is_some() && args.run_plan.is_none() {
+        return Err(miette!("--checkpoint-every N goes with --run-plan DIR"));
+    }
     if let Some(dir) = &args.run_plan {
         let shard = cases::parse_shard(args.shard.as_deref().unwrap_or("0/1"))?;
-        return plan::run_plan(dir, shard, args.quiet);
+        let every = args.checkpoint_every.unwrap_or(plan::CHECKPOINT_EVERY);
+        return plan::run_plan_every(dir, shard, args.quiet, every);
     }
     if let Some(dir) = &args.collect {
         let report = plan::collect(dir)?;

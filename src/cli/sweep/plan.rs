@@ -6,15 +6,19 @@
 //! scene file per case `cases/case-NNNN.toml` (the scene with the case's overrides applied;
 //! relative paths in it, such as a mesh's `file`, are those of the base scene's folder, where
 //! it is read), and `results/case-NNNN.toml` for each finished case, written to a temporary
-//! name and renamed, so that a file that exists is complete. A shard skips the cases that
-//! have a result, so a shard that was stopped is completed by running it again. Every shard
+//! name and renamed, so that a file that exists is complete. A running case saves its state
+//! every `--checkpoint-every` steps (default [`CHECKPOINT_EVERY`]) to `results/.case-NNNN.state`
+//! (`crate::checkpoint`'s state file, with the case's running table), removed once its result
+//! is written. A shard skips the cases that have a result and goes on with an interrupted case
+//! from its state, so a shard that was stopped is completed by running it again, and its
+//! results are those of a shard that was never stopped. Every shard
 //! and the collector check the hashes: a plan whose scene changed since it was written is
 //! refused. The collected report is computed from the result files exactly as the sequential
 //! sweep computes it from its runs (the numbers are written with Rust's shortest round-trip
 //! formatting and read back to the same bits), so sweep.csv is the same byte for byte except
 //! the wall-time column.
 
-use super::measure::{CaseResult, run_case};
+use super::measure::{CaseCheckpoint, CaseResult, run_case};
 use super::{Plan, Study, SweepReport};
 use miette::{IntoDiagnostic, Result, miette};
 use serde::{Deserialize, Serialize};
@@ -50,6 +54,11 @@ fn plan_hash(source: &str, study: &Study) -> Result<String> {
 
 fn case_file(dir: &Path, i: usize) -> PathBuf {
     dir.join("cases").join(format!("case-{i:04}.toml"))
+}
+
+/// The state a running case saves (hidden: not a result).
+fn state_file(dir: &Path, i: usize) -> PathBuf {
+    dir.join("results").join(format!(".case-{i:04}.state"))
 }
 
 fn result_file(dir: &Path, i: usize) -> PathBuf {
@@ -129,8 +138,21 @@ pub fn cases(dir: &Path) -> Result<usize> {
     Ok(load(dir)?.2.cases.len())
 }
 
-/// Runs the cases of shard `(i, n)` of the plan in `dir` that have no result yet.
-pub fn run_plan(dir: &Path, (i, n): (usize, usize), quiet: bool) -> Result<()> {
+/// A running case saves its state every this many steps by default (`--checkpoint-every`).
+pub const CHECKPOINT_EVERY: usize = 1000;
+
+/// Runs the cases of shard `(i, n)` of the plan in `dir` that have no result yet, each saving
+/// its state every [`CHECKPOINT_EVERY`] steps.
+pub fn run_plan(dir: &Path, shard: (usize, usize), quiet: bool) -> Result<()> {
+    run_plan_every(dir, shard, quiet, CHECKPOINT_EVERY)
+}
+
+/// [`run_plan`], the cases saving their state every `every` steps: a case interrupted after it
+/// saved one goes on from it when the shard runs again.
+pub fn run_plan_every(dir: &Path, (i, n): (usize, usize), quiet: bool, every: usize) -> Result<()> {
+    if every == 0 {
+        return Err(miette!("--checkpoint-every must be at least 1"));
+    }
     let (_, file, plan) = load(dir)?;
     let (mut ran, mut skipped) = (0, 0);
     for (k, case) in plan.cases.iter().enumerate().filter(|(k, _)| k % n == i) {
@@ -142,10 +164,16 @@ pub fn run_plan(dir: &Path, (i, n): (usize, usize), quiet: bool) -> Result<()> {
         let path = case_file(dir, k);
         let text = std::fs::read_to_string(&path).map_err(|e| miette!("{}: {e}", path.display()))?;
         let model = crate::scene::parse(&text, &file)?;
-        let result = run_case(model, k, &case.label(), quiet);
+        let state = state_file(dir, k);
+        let checkpoint = CaseCheckpoint { path: state.clone(), every, scene: &text };
+        let result = run_case(model, k, &case.label(), quiet, Some(&checkpoint));
         let tmp = dir.join("results").join(format!(".case-{k:04}.toml.{}", std::process::id()));
         std::fs::write(&tmp, toml::to_string(&result).into_diagnostic()?).into_diagnostic()?;
         std::fs::rename(&tmp, &target).into_diagnostic()?;
+        match std::fs::remove_file(&state) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e).into_diagnostic(),
+            _ => {}
+        }
         ran += 1;
     }
     if !quiet {
