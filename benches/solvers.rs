@@ -29,7 +29,7 @@ const STEPS: usize = 20;
 const METHODS: [Method; 3] = [Method::Pc, Method::Nsgs, Method::Mprgp];
 
 fn with(mut m: Model, method: Method, tolerance: f64) -> Model {
-    m.solver.method = method;
+    m.solver.method = method.into();
     m.solver.tolerance = tolerance;
     m
 }

@@ -136,10 +136,10 @@ pub struct ContactSettings {
 pub struct SolverSettings {
     /// Scaled natural residual of the VI (math note §4.3).
     pub tolerance: f64,
-    /// Inner PC iterations per step, all outer loops together.
+    /// The budget of work of a step, all its VI solves and methods together (math note §4.17).
     pub max_iterations: usize,
-    /// VI method (`auto`, `pc`, `nsgs`, `mprgp`; math note §4.7, §4.8).
-    pub method: crate::vi::Method,
+    /// The chain of VI methods (`[solver] method`; math note §4.17).
+    pub method: crate::vi::Chain,
     /// Accept a step whose VI did not converge with a warning (`[solver] allow_unconverged`,
     /// default false: such a step fails, math note §10.8).
     pub allow_unconverged: bool,
@@ -154,7 +154,7 @@ impl Default for SolverSettings {
         Self {
             tolerance: 1e-8,
             max_iterations: 200_000,
-            method: crate::vi::Method::Auto,
+            method: crate::vi::Chain::named(crate::vi::Method::Mprgp),
             allow_unconverged: false,
             factor_drift: 0.0,
         }

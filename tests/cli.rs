@@ -46,7 +46,7 @@ fn run_writes_the_output_contract() {
     );
     assert_eq!(
         header(&out.join("steps.csv")),
-        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,stage,wall_seconds"
+        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,method,kinetic_energy,stage,wall_seconds"
     );
     // steps.csv: one row per step (100), bodies.csv: every step x 4 bodies (every = 1)
     let rows = |f: &str| std::fs::read_to_string(out.join(f)).unwrap().lines().count() - 1;

@@ -7,7 +7,8 @@
 //! 2. the warm steps after it start within the scene's tolerance and need no iteration, which is
 //!    what the rule is for;
 //! 3. a continuation that cannot reach the tighter tolerance is dropped: the step's forces are
-//!    bit for bit those of the run without the rule, and its budget was spent in full.
+//!    bit for bit those of the run without the rule, and its budget (as many iterations again,
+//!    within what is left of the step's `max_iterations`, math note §4.17) was spent in full.
 //!
 //! The residuals are the solver's own measure (math note §4.3), compared with the thresholds
 //! the rule sets, so no tolerance is added to them.
@@ -65,8 +66,10 @@ fn slow_a_continuation_that_misses_is_dropped() {
     assert!(plain.converged && ruled.converged);
     assert!(ruled.residual > 1e-8, "the continuation was expected to miss: {:e}", ruled.residual);
     assert_eq!(ruled.residual.to_bits(), plain.residual.to_bits());
-    // every solve of the step spent its continuation budget, its own count, in full
-    assert_eq!(ruled.inner_iterations, 2 * plain.inner_iterations);
+    // every solve of the step spent its continuation budget, its own count, in full, within
+    // what the step's one budget, `max_iterations`, left it (math note §4.17)
+    let budget = pile.model().solver.max_iterations;
+    assert_eq!(ruled.inner_iterations, (2 * plain.inner_iterations).min(budget));
     assert_eq!(ruled.contacts.len(), plain.contacts.len());
     for (a, b) in ruled.contacts.iter().zip(&plain.contacts) {
         assert_eq!(a.normal_force.to_bits(), b.normal_force.to_bits());

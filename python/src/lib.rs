@@ -217,8 +217,8 @@ fn table(name: &str) -> PyResult<Table> {
 
 /// Integer columns of the CSV contract; text columns are the others in [`TEXT`].
 const INTEGER: [&str; 4] = ["step", "contacts", "outer_iterations", "inner_iterations"];
-const TEXT: [&str; 9] =
-    ["body", "body_a", "body_b", "kind", "state", "monitor", "connector", "interface", "stage"];
+const TEXT: [&str; 10] =
+    ["body", "body_a", "body_b", "kind", "state", "monitor", "connector", "interface", "stage", "method"];
 
 /// The CSV text `text` (header, rows) as columns.
 fn columns(py: Python<'_>, text: &str) -> PyResult<(Vec<String>, Vec<Py<PyAny>>)> {

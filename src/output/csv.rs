@@ -72,7 +72,7 @@ pub(crate) const HEADERS: [(&str, &str); 4] = [
     ("monitors.csv", "step,time,monitor,x,y,ux,uy,vx,vy,stress_x,stress_y,stress_xy"),
     (
         "steps.csv",
-        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,kinetic_energy,stage,wall_seconds",
+        "step,time,dt,contacts,outer_iterations,inner_iterations,residual,method,kinetic_energy,stage,wall_seconds",
     ),
 ];
 
@@ -183,6 +183,9 @@ impl CsvWriter {
         for e in &rec.events {
             writeln!(self.log.rows, "event: {e}")?;
         }
+        for h in &rec.handovers {
+            writeln!(self.log.rows, "hand-over: {h}")?;
+        }
         if self.writes_state(s) {
             self.write_state(world, rec)?;
         }
@@ -199,12 +202,13 @@ impl CsvWriter {
         let (s, t) = (rec.step, Num(rec.time));
         writeln!(
             self.steps.rows,
-            "{s},{t},{},{},{},{},{},{},{stage},{}",
+            "{s},{t},{},{},{},{},{},{},{},{stage},{}",
             Num(rec.dt),
             rec.contact_count,
             rec.outer_iterations,
             rec.inner_iterations,
             Num(rec.residual),
+            rec.method.map_or("none", |m| m.name()),
             Num(rec.kinetic_energy),
             Num(rec.wall_seconds)
         )

@@ -24,7 +24,7 @@ use std::path::Path;
 pub const PAGE: u64 = 4096;
 
 /// Columns never lengthened: integers and text (every other column holds decimal numbers).
-pub const FIXED: [&str; 11] = [
+pub const FIXED: [&str; 12] = [
     "step",
     "body",
     "body_a",
@@ -36,6 +36,7 @@ pub const FIXED: [&str; 11] = [
     "contacts",
     "outer_iterations",
     "inner_iterations",
+    "method",
 ];
 
 /// One append-only file of rows and the rows of the current step, not yet written.

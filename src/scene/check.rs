@@ -266,15 +266,23 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
     Ok(SolverSettings {
         tolerance: or_default(&s.tolerance, "tolerance", positive, default.tolerance)?,
         max_iterations: or_default(&s.max_iterations, "max_iterations", count, default.max_iterations)?,
-        method: or_default(
-            &s.method,
-            "method",
-            |v, k| choice(v, k, &crate::vi::Method::ALL),
-            default.method,
-        )?,
+        method: or_default(&s.method, "method", chain, default.method)?,
         allow_unconverged: s.allow_unconverged.unwrap_or(default.allow_unconverged),
         factor_drift: or_default(&s.factor_drift, "factor_drift", non_negative, default.factor_drift)?,
     })
+}
+
+/// `method`: the scene name of a whole chain (`"mprgp"`) or a list of methods (`["newton",
+/// "pc"]`), math note §4.17.
+fn chain(v: &Spanned<toml::Value>, key: &str) -> Check<crate::vi::Chain> {
+    use crate::vi::Chain;
+    let chain = match v.get_ref() {
+        toml::Value::String(s) => Chain::parse(s)
+            .ok_or_else(|| format!("must be one of {}, or a list of methods (got \"{s}\")", Chain::names())),
+        toml::Value::Array(items) => Chain::from_list(items.iter().map(|i| i.as_str().ok_or(i))),
+        other => Err(format!("must be a string or a list of methods (got a {})", other.type_str())),
+    };
+    chain.or_else(|e| fail(v.span(), format!("{key} {e}")))
 }
 
 fn output(o: &raw::Output) -> Check<OutputSettings> {

@@ -110,7 +110,7 @@ pub(super) struct Contact {
 pub(super) struct Solver {
     pub tolerance: Option<Spanned<f64>>,
     pub max_iterations: Option<Spanned<i64>>,
-    pub method: Option<Spanned<String>>,
+    pub method: Option<Spanned<toml::Value>>,
     pub allow_unconverged: Option<bool>,
     pub factor_drift: Option<Spanned<f64>>,
 }

@@ -1,5 +1,5 @@
-//! The contact pattern's cell as a linear program (math note §4.13): the last resort of the
-//! methods' hand-overs (`guard.rs`) on Coulomb problems that Lemke's method does not solve
+//! The contact pattern's cell as a linear program (math note §4.13): a method of the chain
+//! (`chain.rs`), last but PC in the named chains, on Coulomb problems that Lemke's method does not solve
 //! (too large for it, or its paths end without an answer).
 //!
 //! Row by row, the natural residual of §4.3, r_i = z_i − P[z_i − g_i] with g = D⁻¹(q + W z),
@@ -22,7 +22,7 @@
 //! cell: [`solve`] tries two starts, the stalled iterate and NSGS's iterate from zero (§4.13,
 //! "Two starts"), and a problem whose two cells both miss the tolerance still fails.
 
-use super::guard::Best;
+use super::chain::Best;
 use super::{BoundRule, Operator, Options, Problem, Stats, lemke, nsgs};
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT};
@@ -59,61 +59,81 @@ struct Bounded {
 }
 
 /// The cell program from the stalled iterate z, and if its answer misses the tolerance, from
-/// NSGS's iterate after [`COLD_SWEEPS`] sweeps from zero (math note §4.13): the residual of the
-/// first answer that meets `opts.tolerance` by `measure` (the solver's measure, §4.3, §4.9), z
-/// then that answer; `None` otherwise, z untouched. Every answer is offered to `best`.
+/// NSGS's iterate after [`COLD_SWEEPS`] sweeps from zero (math note §4.13), within `budget`
+/// units of work (interior-point iterations and sweeps, one unit each; §4.17): the work done
+/// and the residual of the first answer that meets `opts.tolerance` by `measure` (the solver's
+/// measure, §4.3, §4.9), z then that answer; `None` otherwise, z untouched. Every answer is
+/// offered to `best`.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn solve(
     w: CsMatView<'_, f64>,
     p: &Problem,
     rule: &dyn BoundRule,
     z: &mut [f64],
     opts: &Options,
+    budget: usize,
     measure: &mut dyn FnMut(&[f64]) -> f64,
     best: &mut Best,
-) -> Option<f64> {
+) -> (usize, Option<f64>) {
     let mut start = z.to_vec();
+    let mut work = 0;
     for second in [false, true] {
         if second {
-            start = cold_start(w, p, rule, opts);
+            start = cold_start(w, p, rule, opts, budget.saturating_sub(work).min(COLD_SWEEPS), &mut work);
         }
         // a problem the program does not take (or gives no point for) costs no second start
-        let answer = answer(w, p, rule, &start)?;
+        let Some(answer) = answer(w, p, rule, &start, budget, &mut work) else { return (work, None) };
         let residual = measure(&answer);
         best.offer(residual, &answer);
         if residual <= opts.tolerance {
             z.copy_from_slice(&answer);
-            return Some(residual);
+            return (work, Some(residual));
         }
     }
-    None
+    (work, None)
 }
 
-/// NSGS from zero for [`COLD_SWEEPS`] sweeps, its stall guard's hand-overs ignored (each one
-/// restarts the run from its iterate); a run that converges or stops on a non-finite or
-/// growing iterate ends it.
-fn cold_start(w: CsMatView<'_, f64>, p: &Problem, rule: &dyn BoundRule, opts: &Options) -> Vec<f64> {
-    let (mut z, mut done, mut work) = (vec![0.0; p.q.len()], 0, nsgs::Work::default());
-    while done < COLD_SWEEPS {
-        let left = Options { max_iterations: COLD_SWEEPS - done, ..*opts };
-        match work.run(w, p.q, p.blocks, rule, &mut z, &left, &mut Stats::default()) {
+/// NSGS from zero for `sweeps` sweeps (added to `work`), its stall guard's hand-overs ignored
+/// (each one restarts the run from its iterate); a run that converges or stops on a
+/// non-finite or growing iterate ends it.
+fn cold_start(
+    w: CsMatView<'_, f64>,
+    p: &Problem,
+    rule: &dyn BoundRule,
+    opts: &Options,
+    sweeps: usize,
+    work: &mut usize,
+) -> Vec<f64> {
+    let (mut z, mut done, mut run) = (vec![0.0; p.q.len()], 0, nsgs::Work::default());
+    while done < sweeps {
+        let left = Options { max_iterations: sweeps - done, ..*opts };
+        match run.run(w, p.q, p.blocks, rule, &mut z, &left, &mut Stats::default()) {
             nsgs::End::Fallback { sweeps, residual } if residual.is_finite() => done += sweeps.max(1),
-            _ => break,
+            nsgs::End::Fallback { sweeps, .. } | nsgs::End::Done { sweeps, .. } => {
+                done += sweeps;
+                break;
+            }
         }
     }
+    *work += done;
     z
 }
 
 /// The minimizer of the cell program of `start` (W given as its CSR), when every block has
 /// Lemke's kind of law (math note §4.12), W has at most [`MAX_ROWS`] rows and the solver gives a
-/// finite point; `None` otherwise.
+/// finite point within what `work` has left of `budget` (its interior-point iterations are
+/// added to `work`); `None` otherwise.
 pub(super) fn answer(
     w: CsMatView<'_, f64>,
     p: &Problem,
     rule: &dyn BoundRule,
     start: &[f64],
+    budget: usize,
+    work: &mut usize,
 ) -> Option<Vec<f64>> {
     let n = p.q.len();
-    if n > MAX_ROWS || w.rows() != n || start.len() != n {
+    let cap = MAX_ITER.min(u32::try_from(budget.saturating_sub(*work)).unwrap_or(u32::MAX));
+    if n > MAX_ROWS || cap == 0 || w.rows() != n || start.len() != n {
         return None;
     }
     let bounded = laws(p, rule, start)?;
@@ -123,7 +143,8 @@ pub(super) fn answer(
         return None;
     }
     let cell = Cell { w, q: p.q, d: &d, bounded: &bounded };
-    cell.solve(&cell.sides(start), start.iter().fold(1.0, |m: f64, v| m.max(v.abs())))
+    let scale = start.iter().fold(1.0, |m: f64, v| m.max(v.abs()));
+    cell.solve(&cell.sides(start), scale, cap, work)
 }
 
 /// Per row, `None` for a normal row, else its bound; `None` when a block's law is not of the
@@ -208,8 +229,9 @@ impl Cell<'_> {
             .collect()
     }
 
-    /// The program's minimizer's z, or `None` when the solver gives no finite point.
-    fn solve(&self, sides: &[Side], cap: f64) -> Option<Vec<f64>> {
+    /// The program's minimizer's z, or `None` when the solver gives no finite point; its
+    /// interior-point iterations are added to `work`.
+    fn solve(&self, sides: &[Side], cap: f64, iterations: u32, work: &mut usize) -> Option<Vec<f64>> {
         let n = self.q.len();
         let t = n;
         let mut rows = Rows::default();
@@ -229,7 +251,7 @@ impl Cell<'_> {
         c[t] = 1.0;
         let settings = DefaultSettingsBuilder::default()
             .verbose(false)
-            .max_iter(MAX_ITER)
+            .max_iter(iterations)
             .tol_gap_abs(1e-8)
             .tol_gap_rel(1e-8)
             .tol_feas(1e-8)
@@ -237,6 +259,7 @@ impl Cell<'_> {
             .ok()?;
         let mut solver = DefaultSolver::new(&p, &c, &a, &b, &[NonnegativeConeT(m)], settings).ok()?;
         solver.solve();
+        *work += solver.solution.iterations as usize;
         let x = &solver.solution.x;
         x[..n].iter().all(|v| v.is_finite()).then(|| x[..n].to_vec())
     }
@@ -290,7 +313,7 @@ mod tests {
     //! z = (1/2, −1/5) (G = q + z = 0 and |z_t| = 0.2 <= μ z_n = 0.25: closed and sticking).
     //! The interior-point method stops at gaps of 1e-8 (relative), so 1e-6 on the answer is
     //! ample. Residuals are the solver's measure (math note §4.3; D = I, max(1, |z|) = 1 here).
-    use super::super::guard::Best;
+    use super::super::chain::Best;
     use super::super::tests::csr;
     use super::super::{BlockLaw, BoundRule, Options, Problem, measure};
 
@@ -311,7 +334,7 @@ mod tests {
         let w = csr(2, &[1.0, 0.0, 0.0, 1.0]);
         let q = [-0.5, 0.2];
         let p = Problem { w: &w, q: &q, blocks: &[0, 2] };
-        let z = super::answer(w.view(), &p, &Coulomb, start).expect("a finite answer");
+        let z = super::answer(w.view(), &p, &Coulomb, start, 1_000, &mut 0).expect("a finite answer");
         let opts = Options { tolerance: 1e-6, ..Options::default() };
         let residual = measure::Check::default().residual(&p, &Coulomb, &z, &opts);
         (z, residual)
@@ -350,7 +373,8 @@ mod tests {
         let mut check = measure::Check::default();
         let mut measure = |x: &[f64]| check.residual(&p, &Coulomb, x, &opts);
         let mut z = vec![0.3, 0.3];
-        let r = super::solve(w.view(), &p, &Coulomb, &mut z, &opts, &mut measure, &mut Best::default());
+        let (_, r) =
+            super::solve(w.view(), &p, &Coulomb, &mut z, &opts, 20_000, &mut measure, &mut Best::default());
         assert!(r.is_some_and(|r| r <= 1e-6), "{r:?}");
         assert!((z[0] - 0.5).abs() <= 1e-6 && (z[1] + 0.2).abs() <= 1e-6, "{z:?}");
     }

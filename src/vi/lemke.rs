@@ -1,5 +1,5 @@
 //! Lemke's complementary pivoting on the LCP of a Coulomb QVI (math note §4.12): the last
-//! resort of the methods' hand-overs (`guard.rs`) when NSGS has stalled. It ends in a finite
+//! resort of the chain of methods (`chain.rs`) when NSGS has stalled. It ends in a finite
 //! number of pivots at an exact solution, where the iterative methods can circle a
 //! near-solution of the wrong contact pattern for ever (the slumping pile of §4.12).
 //!
@@ -20,7 +20,7 @@
 //! about the factor's fill, not m²; [`MAX_VARS`], the pivot cap and [`Path`] (a covering
 //! ends when its path comes back to a basis) bound the time a solve that fails can take.
 
-use super::guard::Best;
+use super::chain::Best;
 use super::{BlockLaw, BoundRule, Problem};
 use sprs::{CsMat, CsMatView, TriMat};
 
@@ -57,7 +57,7 @@ struct Lcp {
 /// form above and at most [`MAX_VARS`] LCP variables, in at most `budget` pivots; z
 /// (overwritten only on success) gets the answer. Returns the pivots and the residual
 /// (`measure`: the solver's measure of an answer, `measure::Check`, math note §4.3, §4.9) when
-/// that meets `tolerance`, `None` otherwise. Every answer measured is offered to `best` (the
+/// that meets `tolerance`, else the pivots made (`Err`). Every answer measured is offered to `best` (the
 /// chain's best answer, math note §4.7), so a near-solution that misses the tolerance still
 /// counts when the chain fails.
 pub(super) fn solve(
@@ -68,9 +68,9 @@ pub(super) fn solve(
     (tolerance, budget): (f64, usize),
     measure: &mut dyn FnMut(&[f64]) -> f64,
     best: &mut Best,
-) -> Option<(usize, f64)> {
+) -> Result<(usize, f64), usize> {
     let n = p.q.len();
-    let lcp = Lcp::new(w, p, rule, z)?;
+    let Some(lcp) = Lcp::new(w, p, rule, z) else { return Err(0) };
     let mut pivots = 0;
     for k in 0..COVERINGS {
         let d: Vec<f64> = (0..lcp.m).map(|i| covering(i, k)).collect();
@@ -85,11 +85,11 @@ pub(super) fn solve(
         let residual = measure(&answer);
         if residual <= tolerance {
             z.copy_from_slice(&answer);
-            return Some((pivots, residual));
+            return Ok((pivots, residual));
         }
         best.offer(residual, &answer);
     }
-    None
+    Err(pivots)
 }
 
 /// Whether a block of `rows` rows with this law has the LCP's form: no tension, no cohesion
@@ -345,7 +345,7 @@ mod tests {
     //! sticking, q = (−2, −0.2): z = (38/35, −12/35), |z_t| = 0.343 < μ z_n = 0.543; sliding,
     //! q = (−2, −2): z = (8/9, 4/9) = (z_n, μ z_n). Pivoting is exact up to rounding on a
     //! 4-variable LCP, so 1e-12.
-    use super::super::guard::Best;
+    use super::super::chain::Best;
     use super::super::tests::csr;
     use super::super::{BlockLaw, BoundRule, Operator, Options, Problem, measure};
     use sprs::CsMat;
@@ -362,7 +362,7 @@ mod tests {
         let opts = Options { tolerance: tol, ..Options::default() };
         let mut check = measure::Check::default();
         let mut measure = |x: &[f64]| check.residual(p, rule, x, &opts);
-        super::solve(w.view(), p, rule, z, (tol, 100), &mut measure, &mut Best::default())
+        super::solve(w.view(), p, rule, z, (tol, 100), &mut measure, &mut Best::default()).ok()
     }
 
     /// Normal contacts alone (one row a block, no friction): z >= 0, G >= 0, z G = 0.

@@ -52,17 +52,17 @@
 //!
 //! # Methods
 //!
-//! [`Solver::method`] picks the algorithm ([`Method`]): the PC method below (the reference),
-//! or nonsmooth block Gauss-Seidel (`nsgs.rs`, `local.rs`; math note §4.7), which solves each
-//! block exactly in closed form ([`BoundRule::block_law`]) with the bounds taken at the
-//! current iterate (no outer passes), reports the same §4.3 residual, and hands over to PC
-//! when it stalls; or the outer loop of PC with MPRGP (`mprgp.rs`, math note §4.8) as the
-//! inner solver of each pass, handed over when it fails to NSGS on W's entries and, if that
-//! stalls, to PC (math note §4.8, "MPRGP's fallbacks"). Before PC, a stalled NSGS on a small
-//! Coulomb problem hands over to Lemke's pivoting (`lemke.rs`, math note §4.12).
-//! [`Method::Auto`] runs MPRGP. [`Method::Newton`] runs a semismooth Newton method on the
-//! natural map with the friction bounds' dependence on the normal forces in its Jacobian
-//! (`newton.rs`, math note §4.16), and the MPRGP chain from the warm start when it fails.
+//! [`Solver::chain`] lists the methods a solve runs ([`Chain`] of [`Method`]s; math note
+//! §4.17, `chain.rs`): the PC method below (the reference); nonsmooth block Gauss-Seidel
+//! (`nsgs.rs`, `local.rs`; math note §4.7), which solves each block exactly in closed form
+//! ([`BoundRule::block_law`]) with the bounds taken at the current iterate (no outer passes)
+//! and reports the same §4.3 residual; the outer loop of PC with MPRGP (`mprgp.rs`, math note
+//! §4.8) as the inner solver of each pass; a semismooth Newton method on the natural map
+//! (`newton.rs`, §4.16); Lemke's pivoting (`lemke.rs`, §4.12) and the cell program
+//! (`cell.rs`, §4.13) on small Coulomb problems. Each method that takes the problem runs in
+//! turn until one answers; all draw on one budget, [`Options::max_iterations`].
+//! [`Stats::method`] names the method that answered and [`Solver::handovers`] lists the
+//! hand-overs.
 //!
 //! # Performance
 //!
@@ -111,8 +111,8 @@
 //! not checked (PC only needs monotonicity of G).
 
 mod cell;
+mod chain;
 mod face;
-mod guard;
 mod lemke;
 mod local;
 mod measure;
@@ -136,8 +136,8 @@ mod tests_mprgp;
 #[cfg(test)]
 mod tests_nsgs;
 
-pub use guard::HANDOVER_SHARE;
-pub use method::Method;
+pub use chain::{HANDOVER_SHARE, HandOver};
+pub use method::{Chain, MAX_METHODS, Method};
 pub use nsgs::{STALL_SHARE, STALL_SWEEPS};
 pub use operator::Operator;
 pub use par::all_bounds_in_halves;
@@ -237,7 +237,8 @@ pub const AIM: f64 = 0.5;
 pub struct Options {
     /// Scaled natural residual to reach (math note §4.3).
     pub tolerance: f64,
-    /// Cap on inner PC iterations, all outer loops together.
+    /// The budget of work of the whole chain of methods, in the units of math note §4.17
+    /// (iterations, sweeps, steps, pivots; one unit each).
     pub max_iterations: usize,
     /// Cap on outer (bound-update) iterations.
     pub max_outer: usize,
@@ -258,10 +259,6 @@ pub struct Options {
     /// A run cut short by the iteration cap or a stall within the tolerance still converges.
     /// 1 stops at the tolerance itself.
     pub aim: f64,
-    /// Whether the hand-overs may end in the cell program (math note §4.13), which costs wall
-    /// time outside the iteration budget (default true). A solve whose miss is dropped anyway,
-    /// the cold step's continuation (§10.11), sets it false.
-    pub cell: bool,
 }
 
 impl Default for Options {
@@ -274,7 +271,6 @@ impl Default for Options {
             gap_tolerance: f64::INFINITY,
             force_scale: 0.0,
             aim: AIM,
-            cell: true,
         }
     }
 }
@@ -336,12 +332,15 @@ pub struct Stats {
     pub products: usize,
     /// Rejected trial steps (beta shrinks).
     pub shrinks: usize,
-    /// NSGS or MPRGP runs handed over by their guard (to NSGS, Lemke or PC; 0 or 1).
+    /// Whether a method of the chain handed over (0 or 1; [`Solver::handovers`]).
     pub fallbacks: usize,
     /// MPRGP's face solves (sparse factorizations of the free rows' block, math note §4.10).
     pub face_solves: usize,
-    /// Pivots of Lemke's method, the last resort after NSGS's stall (math note §4.12).
+    /// Pivots of Lemke's method (math note §4.12).
     pub pivots: usize,
+    /// The method of the chain whose answer the solve returned (`None`: no method ran, the
+    /// problem was empty or the input invalid).
+    pub method: Option<Method>,
 }
 
 /// The solver with its workspace, reused across calls and steps: allocation only when a
@@ -362,9 +361,10 @@ pub struct Solver {
     /// iteration and failed to settle less often, and on a frictional square packing it
     /// converged where the exact iteration ran out of iterations.
     pub inexact: f64,
-    /// Method. [`Solver::new`] gives [`Method::Pc`], the reference (the world sets the
-    /// scene's `[solver] method`, default [`Method::Auto`], before every solve).
-    pub method: Method,
+    /// The chain of methods (math note §4.17). [`Solver::new`] gives PC alone, the reference
+    /// (the world sets the scene's `[solver] method`, default MPRGP's chain, before every
+    /// solve).
+    pub chain: Chain,
     stats: Stats,
     /// The last solve converged and its work vectors hold a full product of its answer.
     exact: bool,
@@ -373,8 +373,12 @@ pub struct Solver {
     step_length: Option<f64>,
     nsgs: nsgs::Work,
     newton: newton::Work,
-    /// The best answer of the methods' hand-overs (`guard.rs`).
-    best: guard::Best,
+    /// The caller's warm start of the running solve, where the chain's methods start.
+    warm: Vec<f64>,
+    /// The hand-overs of the last solve.
+    handovers: Vec<HandOver>,
+    /// The best answer of the chain's methods (`chain.rs`).
+    best: chain::Best,
     /// Storage of the residual of unconverged answers (`measure.rs`).
     check: measure::Check,
     scaling: scaling::Scaling,
@@ -393,13 +397,15 @@ impl Solver {
             correction: Correction::default(),
             parallel_min_rows: 20_000,
             inexact: 0.1,
-            method: Method::Pc,
+            chain: Chain::named(Method::Pc),
             stats: Stats::default(),
             exact: false,
             step_length: None,
             nsgs: nsgs::Work::default(),
             newton: Default::default(),
-            best: guard::Best::default(),
+            warm: Vec::new(),
+            handovers: Vec::new(),
+            best: chain::Best::default(),
             check: measure::Check::default(),
             scaling: scaling::Scaling::default(),
             vectors: pc::Vectors::default(),
@@ -418,10 +424,21 @@ impl Solver {
         self
     }
 
-    /// Sets [`Self::method`].
+    /// Sets [`Self::chain`] to the chain `method`'s scene name stands for ([`Chain::named`]).
     pub fn with_method(mut self, method: Method) -> Solver {
-        self.method = method;
+        self.chain = Chain::named(method);
         self
+    }
+
+    /// Sets [`Self::chain`].
+    pub fn with_chain(mut self, chain: Chain) -> Solver {
+        self.chain = chain;
+        self
+    }
+
+    /// The hand-overs between the chain's methods in the last [`Self::solve`] call, in order.
+    pub fn handovers(&self) -> &[HandOver] {
+        &self.handovers
     }
 
     /// Sets [`Self::inexact`].
@@ -464,6 +481,7 @@ impl Solver {
     pub fn solve(&mut self, p: &Problem, rule: &dyn BoundRule, z: &mut [f64], opts: &Options) -> Report {
         let n = p.q.len();
         self.stats = Stats::default();
+        self.handovers.clear();
         self.exact = false;
         let csr = p.w.as_csr();
         let csr_ok = csr.as_ref().is_none_or(|w| w.rows() == n && w.cols() == n);
@@ -473,13 +491,7 @@ impl Solver {
         if n == 0 {
             return Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
         }
-        let nsgs_ok = csr.as_ref().is_some_and(|w| nsgs::applicable(w, p.blocks));
-        match (self.method.resolve(), csr) {
-            (Method::Nsgs, Some(w)) if nsgs_ok => self.solve_nsgs(w, p, rule, z, opts),
-            (Method::Mprgp, _) => self.solve_mprgp(p, rule, z, opts),
-            (Method::Newton, _) => self.solve_newton(p, rule, z, opts),
-            _ => self.solve_pc(p, rule, z, opts, false),
-        }
+        self.solve_chain(p, rule, z, opts)
     }
 
     /// The PC path (math note §4.2–4.3), with MPRGP as the inner solver of the passes when
@@ -534,7 +546,7 @@ impl Solver {
         self.exact = report.converged && st.exact();
         // an unconverged answer is measured on its own (math note §4.3): the passes measure
         // their iterate against the box of the pass's start, and unscale it into that box
-        let residual = match guard::kept_iterate(self.stats.status) {
+        let residual = match chain::kept_iterate(self.stats.status) {
             true => self.check.residual(p, rule, z, opts),
             false => report.residual,
         };

@@ -3,8 +3,8 @@
 //! fixed, its bounds taken from the bound rule at the current iterate (so a joint partner's
 //! latest forces are seen at once, and no outer passes are needed). Every few sweeps the
 //! scaled natural residual of math note §4.3 is evaluated with the bounds of the current
-//! iterate: the same test and reported value as PC. A stall guard hands slow runs to PC; a
-//! run that uses up its budget keeps its iterate.
+//! iterate: the same test and reported value as PC. A stall guard hands slow runs to the next
+//! method of the chain (math note §4.17); a run that uses up its budget keeps its iterate.
 
 // NaN-safe `!(a <= b)` tests.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -17,7 +17,8 @@ use sprs::CsMatView;
 /// Sweeps between residual checks once the first few are done.
 pub(super) const CHECK_EVERY: usize = 8;
 /// Stall guard (math note §4.7): the residual must halve within this many sweeps, or within
-/// a [`STALL_SHARE`]th of the run's budget if that is more, else PC takes over.
+/// a [`STALL_SHARE`]th of the run's budget if that is more, else the chain's next method
+/// takes over.
 pub const STALL_SWEEPS: usize = 400;
 /// The share of its budget a run may spend on one plateau: NSGS on a pile that moves sits on
 /// plateaus of up to some 5,000 sweeps before a contact changes state and it converges
@@ -54,11 +55,6 @@ pub(super) fn applicable(w: &CsMatView<'_, f64>, blocks: &[usize]) -> bool {
 }
 
 impl Work {
-    /// The warm start of the last run.
-    pub fn warm_start(&self) -> &[f64] {
-        &self.z0
-    }
-
     #[allow(clippy::too_many_arguments)]
     /// Runs NSGS from z (overwritten). `stats.products` counts sweeps and residual checks
     /// (each one pass over W).

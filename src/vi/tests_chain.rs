@@ -3,7 +3,7 @@
 //! and a chain of methods returns the best answer it reached. Expected values are derived in
 //! the comment above each test, with their tolerances.
 
-use super::guard::Best;
+use super::chain::Best;
 use super::tests::{Friction, csr, opts};
 use super::*;
 

@@ -291,8 +291,9 @@ impl World {
 fn merge(a: StepRecord, b: StepRecord) -> StepRecord {
     let mut stages = a.stages;
     stages.add(&b.stages);
-    let (mut warnings, mut events) = (a.warnings, a.events);
+    let (mut warnings, mut events, mut handovers) = (a.warnings, a.events, a.handovers);
     warnings.extend(b.warnings);
+    handovers.extend(b.handovers);
     events.extend(b.events);
     StepRecord {
         dt: a.dt.min(b.dt),
@@ -303,6 +304,7 @@ fn merge(a: StepRecord, b: StepRecord) -> StepRecord {
         stages,
         warnings,
         events,
+        handovers,
         ..b
     }
 }

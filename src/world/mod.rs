@@ -47,7 +47,9 @@ mod update;
 mod velocity;
 
 pub use adaptive::Trouble;
-pub use record::{ContactRecord, ContactState, Event, SolveKind, StageTimes, StepError, StepRecord, Warning};
+pub use record::{
+    ContactRecord, ContactState, Event, HandOver, SolveKind, StageTimes, StepError, StepRecord, Warning,
+};
 pub use snapshot::StateError;
 pub use stages::{StageEnd, StageState};
 
@@ -271,6 +273,8 @@ impl World {
             inner_iterations: solved.report.inner_iterations,
             residual: solved.report.residual,
             converged: solved.report.converged,
+            method: solved.method,
+            handovers: solved.handovers,
             kinetic_energy,
             mean_kinetic,
             stage: self.stage.current,

@@ -105,6 +105,25 @@ impl fmt::Display for Warning {
     }
 }
 
+/// A method of the VI chain that handed a solve over to the next (math note §4.17): a line
+/// of the run log.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HandOver {
+    pub step: usize,
+    pub solve: SolveKind,
+    pub from: crate::vi::Method,
+    pub to: crate::vi::Method,
+    /// Why `from` did not answer.
+    pub why: &'static str,
+}
+
+impl fmt::Display for HandOver {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let HandOver { step, solve, from, to, why } = self;
+        write!(f, "step {step} ({solve}): {from} handed over to {to} ({why})")
+    }
+}
+
 /// Events of the physics worth a line in the run log.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Event {
@@ -225,6 +244,11 @@ pub struct StepRecord {
     pub inner_iterations: usize,
     pub residual: f64,
     pub converged: bool,
+    /// The method of the VI chain whose answer the step took: of the step's solves, the one
+    /// answered latest in the chain's order (`None`: no solve ran a method, e.g. no contacts).
+    pub method: Option<crate::vi::Method>,
+    /// The hand-overs between the chain's methods in the step's solves, in order.
+    pub handovers: Vec<HandOver>,
     pub kinetic_energy: f64,
     /// The kinetic energy per unit mass of the free bodies on the step's mean velocity d/dt
     /// [J/kg] (math note §10.14); computed in staged runs only (0 otherwise).

@@ -137,7 +137,7 @@ impl World {
         }
         let limit = delassus::EXPLICIT_LIMIT;
         // single bodies in body form, except for NSGS, whose sweeps read W's rows (math note §3.3)
-        let bodies = self.model.solver.method.resolve() != Method::Nsgs;
+        let bodies = self.model.solver.method.first() != Method::Nsgs;
         let w = delassus::ContactOperator::with_scratch(
             jac,
             &self.flex,

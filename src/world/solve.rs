@@ -5,7 +5,7 @@
 use super::detect::{Brief, Detected, Inputs};
 use super::refine::Refined;
 use super::rows::{Linearization, Rows};
-use super::{Pipeline, SolveKind, Warning, World};
+use super::{HandOver, Pipeline, SolveKind, Warning, World};
 use crate::contact::ContactGeom;
 use crate::contact::law::Law;
 use crate::vi::{self, Operator, Problem};
@@ -62,6 +62,9 @@ pub(super) struct Solved {
     pub w_diag_max: f64,
     /// Time spent building rows and in the VI.
     pub times: SolveTimes,
+    /// The method whose answer the step took and the chain's hand-overs ([`super::StepRecord`]).
+    pub method: Option<vi::Method>,
+    pub handovers: Vec<HandOver>,
 }
 
 /// A geometry increment d̄ (math note §1.3 c) and each body's largest point motion under it.
@@ -78,10 +81,19 @@ pub(super) struct SolveTimes {
     pub vi: f64,
 }
 
-/// Runs the VI solves of one step and accumulates their report and warnings.
+/// Runs the VI solves of one step and accumulates their report and warnings. Every solve
+/// draws on the step's one budget (math note §4.17): its `max_iterations` is what the step's
+/// solves before it left of `[solver] max_iterations`.
 struct Runner<'a> {
-    /// The scene's options.
+    /// The scene's options (`max_iterations`: what is left of the step's budget).
     opts: vi::Options,
+    /// The step's budget of work (`[solver] max_iterations`).
+    budget: usize,
+    /// The chain of methods (`[solver] method`).
+    chain: vi::Chain,
+    /// The method whose answer was taken latest in the chain's order, with its place.
+    method: Option<(usize, vi::Method)>,
+    handovers: Vec<HandOver>,
     /// On a cold step, the factor on the tolerances of each solve's continuation (§10.11).
     tighten: Option<f64>,
     step: usize,
@@ -109,8 +121,9 @@ impl Runner<'_> {
         let started = Instant::now();
         let rule = world.bounds(laws);
         let problem = Problem { w: &rows.w, q, blocks: &rows.blocks };
-        self.pipeline.vi.method = world.model.solver.method;
-        let (r, last) = self.solve_vi(&problem, &rule, z, again);
+        self.pipeline.vi.chain = self.chain;
+        self.opts.max_iterations = self.budget.saturating_sub(self.report.inner_iterations);
+        let (r, last) = self.solve_vi(&problem, &rule, z, again, solve);
         let mut gaps = None;
         if r.converged {
             if !world.polish(rows, q, &rule, z) && last {
@@ -143,6 +156,7 @@ impl Runner<'_> {
         rule: &dyn vi::BoundRule,
         z: &mut [f64],
         again: bool,
+        solve: SolveKind,
     ) -> (vi::Report, bool) {
         let kept = (again && self.tighten.is_none())
             .then(|| self.pipeline.vi.residual_again(problem.q, z, &self.opts))
@@ -155,19 +169,23 @@ impl Runner<'_> {
             );
         }
         let first = self.pipeline.vi.solve(problem, rule, z, &self.opts);
+        self.note(solve, true);
         let Some(factor) = self.tighten.filter(|_| first.converged) else { return (first, true) };
         let answer = z.to_vec();
+        let left = self.opts.max_iterations.saturating_sub(first.inner_iterations);
         let tight = vi::Options {
             tolerance: self.opts.tolerance * factor,
             gap_tolerance: self.opts.gap_tolerance * factor,
-            max_iterations: first.inner_iterations.max(MIN_CONTINUATION),
-            // the continuation is itself the tightening: it stops at its tolerance; its miss
-            // is dropped, so it does not pay for the cell program (math note §4.13)
+            max_iterations: first.inner_iterations.max(MIN_CONTINUATION).min(left),
+            // the continuation is itself the tightening: it stops at its tolerance
             aim: 1.0,
-            cell: false,
             ..self.opts
         };
+        // its miss is dropped, so its chain leaves out the cell program (math note §4.13)
+        self.pipeline.vi.chain = self.chain.without(vi::Method::Cell);
         let more = self.pipeline.vi.solve(problem, rule, z, &tight);
+        self.pipeline.vi.chain = self.chain;
+        self.note(solve, more.converged);
         let report = vi::Report {
             outer_iterations: first.outer_iterations + more.outer_iterations,
             inner_iterations: first.inner_iterations + more.inner_iterations,
@@ -177,6 +195,21 @@ impl Runner<'_> {
             z.copy_from_slice(&answer);
         }
         (report, more.converged)
+    }
+
+    /// Records the last VI solve's hand-overs and, when its answer is taken (`taken`), its
+    /// method if it stands later in the chain than the step's answers so far.
+    fn note(&mut self, solve: SolveKind, taken: bool) {
+        let step = self.step;
+        let vi = &self.pipeline.vi;
+        let handovers =
+            vi.handovers().iter().map(|h| HandOver { step, solve, from: h.from, to: h.to, why: h.why });
+        self.handovers.extend(handovers);
+        let answered = vi.stats().method.filter(|_| taken);
+        let placed = answered.map(|m| (self.chain.position(m).unwrap_or(0), m));
+        if placed.is_some_and(|p| self.method.is_none_or(|q| p.0 >= q.0)) {
+            self.method = placed;
+        }
     }
 
     /// Builds rows with the pipeline's storage, timing it.
@@ -227,30 +260,7 @@ impl World {
         pipeline: &mut Pipeline,
     ) -> Solved {
         let Inputs { warm: mut z1, laws, mut lin } = inputs;
-        let brief = &found.brief;
-        let opts = vi::Options {
-            tolerance: self.model.solver.tolerance,
-            max_iterations: self.model.solver.max_iterations,
-            max_outer: 50,
-            jacobi: self.settings.jacobi,
-            gap_tolerance: self.model.solver.tolerance * self.feature,
-            force_scale: self.force_scale(),
-            aim: self.settings.aim,
-            cell: true,
-        };
-        // a cold step (math note §10.11): its error becomes the motion later steps inherit
-        let factor = self.settings.cold_tightening;
-        let tighten = (factor < 1.0 && z1.iter().all(|&x| x == 0.0)).then_some(factor);
-        let report = vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true };
-        let mut runner = Runner {
-            opts,
-            tighten,
-            step: self.step_index + 1,
-            report,
-            warnings: Vec::new(),
-            pipeline,
-            times: SolveTimes::default(),
-        };
+        let mut runner = self.runner(&z1, pipeline);
         let mut refinements = 0;
         // the rows of the last solve 1, the patches of a further refinement (`None`: the rows'
         // own linearization), the response to z1 and the increment; whether the solver's last
@@ -280,44 +290,115 @@ impl World {
         let rows2 = runner.rows(|a| self.impact_rows(found, &rows.lin, last.as_ref(), &state, df, a));
         // restitution and friction stops (math note §10.15): offsets of solve 2's gaps
         let targets = self.velocity_targets(found, rows2.as_ref().unwrap_or(&rows), &laws, &state);
-        let (z2, dp2) = if rows2.is_some() || state.velocity || targets.is_some() {
-            let solve2 = rows2.as_ref().unwrap_or(&rows);
-            let plain = velocity_gaps(brief, &solve2.q, &state);
-            let offset = |o: &[f64]| plain.iter().zip(o).map(|(q, o)| q + o).collect::<Vec<f64>>();
-            let q2 = targets.as_ref().map_or_else(|| plain.clone(), |t| offset(&t.offsets));
-            let mut z2 = z1.clone();
-            let again = rows2.is_none() && product;
-            let (warned, report) = (runner.warnings.len(), runner.report);
-            runner.run(self, &laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
-            // a solve 2 with friction stops that misses: solved again without them (§10.15)
-            let missed = runner.warnings.len() > warned;
-            let fallback = targets.as_ref().filter(|t| missed && !t.stops.is_empty());
-            if let Some(t) = fallback {
-                let (step, spent) = (runner.step, runner.report.inner_iterations - report.inner_iterations);
-                let residual = runner.report.residual;
-                runner.warnings.truncate(warned);
-                runner.report = vi::Report { inner_iterations: runner.report.inner_iterations, ..report };
-                runner.warnings.push(Warning::StopsDropped { step, residual, iterations: spent });
-                z2.copy_from_slice(&z1);
-                match t.without_stops() {
-                    Some(o) => {
-                        runner.run(self, &laws, solve2, &offset(&o), &mut z2, SolveKind::Velocity, false)
-                    }
-                    // solve 2 without offsets is solve 1 when nothing else changed its gaps
-                    None if rows2.is_none() && !state.velocity => None,
-                    None => runner.run(self, &laws, solve2, &plain, &mut z2, SolveKind::Velocity, false),
-                };
-            }
-            // z1 kept bit for bit on solve 1's rows: its response is dp1
-            let same = rows2.is_none() && z2.iter().zip(&z1).all(|(a, b)| a.to_bits() == b.to_bits());
-            let dp2 = (!same).then(|| self.response(solve2, &z2, None));
-            (z2, dp2)
-        } else {
-            (z1.clone(), None)
+        let (z2, dp2) = match rows2.is_some() || state.velocity || targets.is_some() {
+            true => self.velocity_solve(
+                &mut runner,
+                found,
+                &laws,
+                (&rows, rows2.as_ref()),
+                &state,
+                &z1,
+                targets,
+                product,
+            ),
+            false => (z1.clone(), None),
         };
         let w_diag_max = rows.w.largest_diagonal();
         let (report, warnings, times) = (runner.report, runner.warnings, runner.times);
-        Solved { laws, rows, rows2, z1, z2, dp1, dp2, increment, state, report, warnings, w_diag_max, times }
+        let (method, handovers) = (runner.method.map(|(_, m)| m), runner.handovers);
+        Solved {
+            laws,
+            rows,
+            rows2,
+            z1,
+            z2,
+            dp1,
+            dp2,
+            increment,
+            state,
+            report,
+            warnings,
+            w_diag_max,
+            times,
+            method,
+            handovers,
+        }
+    }
+
+    /// The step's VI options and the runner of its solves (math note §10.11: a cold step, z1 all
+    /// zero, continues each solve to the tightened tolerances).
+    fn runner<'a>(&self, z1: &[f64], pipeline: &'a mut Pipeline) -> Runner<'a> {
+        let opts = vi::Options {
+            tolerance: self.model.solver.tolerance,
+            max_iterations: self.model.solver.max_iterations,
+            max_outer: 50,
+            jacobi: self.settings.jacobi,
+            gap_tolerance: self.model.solver.tolerance * self.feature,
+            force_scale: self.force_scale(),
+            aim: self.settings.aim,
+        };
+        // a cold step (math note §10.11): its error becomes the motion later steps inherit
+        let factor = self.settings.cold_tightening;
+        let tighten = (factor < 1.0 && z1.iter().all(|&x| x == 0.0)).then_some(factor);
+        Runner {
+            opts,
+            budget: self.model.solver.max_iterations,
+            chain: self.model.solver.method,
+            method: None,
+            handovers: Vec::new(),
+            tighten,
+            step: self.step_index + 1,
+            report: vi::Report { outer_iterations: 0, inner_iterations: 0, residual: 0.0, converged: true },
+            warnings: Vec::new(),
+            pipeline,
+            times: SolveTimes::default(),
+        }
+    }
+
+    /// Solve 2 (velocity, math note §1.3 d) on solve 1's rows or its own (`rows`), with the
+    /// offsets of restitution and friction stops (`targets`, §10.15), from z1: z2 and, when z2
+    /// is not z1 on solve 1's rows, its response. `product`: the solver's last product is of z1.
+    #[allow(clippy::too_many_arguments)]
+    fn velocity_solve(
+        &self,
+        runner: &mut Runner,
+        found: &Detected,
+        laws: &[Law],
+        (rows, rows2): (&Rows, Option<&Rows>),
+        state: &Classified,
+        z1: &[f64],
+        targets: Option<super::velocity::Targets>,
+        product: bool,
+    ) -> (Vec<f64>, Option<Vec<f64>>) {
+        let solve2 = rows2.unwrap_or(rows);
+        let plain = velocity_gaps(&found.brief, &solve2.q, state);
+        let offset = |o: &[f64]| plain.iter().zip(o).map(|(q, o)| q + o).collect::<Vec<f64>>();
+        let q2 = targets.as_ref().map_or_else(|| plain.clone(), |t| offset(&t.offsets));
+        let mut z2 = z1.to_vec();
+        let again = rows2.is_none() && product;
+        let (warned, report) = (runner.warnings.len(), runner.report);
+        runner.run(self, laws, solve2, &q2, &mut z2, SolveKind::Velocity, again);
+        // a solve 2 with friction stops that misses: solved again without them (§10.15)
+        let missed = runner.warnings.len() > warned;
+        let fallback = targets.as_ref().filter(|t| missed && !t.stops.is_empty());
+        if let Some(t) = fallback {
+            let (step, spent) = (runner.step, runner.report.inner_iterations - report.inner_iterations);
+            let residual = runner.report.residual;
+            runner.warnings.truncate(warned);
+            runner.report = vi::Report { inner_iterations: runner.report.inner_iterations, ..report };
+            runner.warnings.push(Warning::StopsDropped { step, residual, iterations: spent });
+            z2.copy_from_slice(z1);
+            match t.without_stops() {
+                Some(o) => runner.run(self, laws, solve2, &offset(&o), &mut z2, SolveKind::Velocity, false),
+                // solve 2 without offsets is solve 1 when nothing else changed its gaps
+                None if rows2.is_none() && !state.velocity => None,
+                None => runner.run(self, laws, solve2, &plain, &mut z2, SolveKind::Velocity, false),
+            };
+        }
+        // z1 kept bit for bit on solve 1's rows: its response is dp1
+        let same = rows2.is_none() && z2.iter().zip(z1).all(|(a, b)| a.to_bits() == b.to_bits());
+        let dp2 = (!same).then(|| self.response(solve2, &z2, None));
+        (z2, dp2)
     }
 
     /// Impacts act on the rigid-body DOFs (math note §10.3): when an impacting contact

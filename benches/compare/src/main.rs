@@ -59,7 +59,7 @@ impl Times {
 /// pbdda run: (times, mean iterations, step-1 pair forces, sink).
 fn pbdda_run(pile: &DiskPile, method: Method, tol: f64, steps: usize) -> (Times, f64, Pairs, f64) {
     let mut m = pile.model();
-    m.solver.method = method;
+    m.solver.method = method.into();
     m.solver.tolerance = tol;
     let mut w = World::new(m);
     let y0: Vec<f64> = w.bodies.iter().map(|b| b.centroid.y).collect();
