@@ -49,16 +49,17 @@ fn paper_examples_with_newton() {
     check("newton");
 }
 
-/// `auto` (the default) runs MPRGP's chain (`Method::resolve`), so the MPRGP run above covers
-/// it; what is left to check is that the default scene gets `auto` and that `auto` stands for
-/// MPRGP (the scene-format reference says so).
+/// `auto` (the default) is MPRGP's chain (`Chain::parse`), so the MPRGP run above covers it;
+/// what is left to check is that the default scene gets that chain and that `auto` names it
+/// (the scene-format reference says so).
 #[test]
 fn auto_is_the_default_and_stands_for_mprgp() {
-    use pbdda::vi::Method;
+    use pbdda::vi::Chain;
     let scene = pbdda::scene::load_with(std::path::Path::new("examples/7_1_disk_heap.toml"), &[])
         .expect("the example loads");
-    assert_eq!(scene.solver.method, Method::Auto);
-    assert_eq!(Method::parse("auto").map(Method::resolve), Some(Method::Mprgp));
+    let mprgp = Chain::parse("mprgp").expect("mprgp names a chain");
+    assert_eq!(scene.solver.method, mprgp);
+    assert_eq!(Chain::parse("auto"), Some(mprgp));
 }
 
 /// A method name outside the list is a typed error naming the key (scene-format contract).
