@@ -26,8 +26,9 @@ pub(crate) struct Region {
 #[derive(Debug)]
 pub(crate) struct Arrangement {
     pub positions: Vec<[f64; 2]>,
-    /// 0: a vertex of the outline or an excavation; 1: on the outline or a removed excavation's
-    /// outline; 2: any other. Merged vertices move to the one of lowest rank (then index).
+    /// The merge rank (math note §12.8): 0 a vertex of the domain or a removed excavation; 1 on
+    /// their outlines; 2 a vertex of a kept excavation; 3 on a kept excavation's outline; 4 any
+    /// other. Merged vertices move to the one of lowest rank (then index).
     pub rank: Vec<u8>,
     pub regions: Vec<Region>,
     pub reports: Vec<Report>,
@@ -67,13 +68,17 @@ pub(crate) fn build(
     let mut inputs: Vec<Segment> = Vec::new();
     let mut corners = Vec::new();
     let mut reports = Vec::new();
-    // a few dozen ulps of the coordinates: far below the 1e-9 D the trace ends reach past a
+    // a few dozen ulps of the coordinates (of the domain's size, or of their magnitude where
+    // the domain lies far from the origin): far below the 1e-9 D the trace ends reach past a
     // line (§12.1), which a larger snap would pull the line onto
-    let snap = 1e-14 * checked.scale;
+    let magnitude = checked.lo.iter().chain(&checked.hi).fold(0.0_f64, |m, c| m.max(c.abs()));
+    let snap = 1e-14 * checked.scale.max(magnitude);
     let mut polygon = |poly: &[[f64; 2]], source: EdgeSource, cdt: &mut Cdt, reports: &mut Vec<Report>| {
+        // a kept excavation's corners yield to the outline's (math note §12.8)
+        let kept = matches!(source, EdgeSource::Excavation(i) if spec.excavations[i].keep);
         for i in 0..poly.len() {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            corners.push(insert(cdt, a)?);
+            corners.push((insert(cdt, a)?, if kept { 2 } else { 0 }));
             add(cdt, a, b, snap, reports)?;
             inputs.push(Segment { a, b, source });
         }
@@ -97,7 +102,7 @@ pub(crate) fn build(
             }
         }
         if seams.is_empty() {
-            return finish(&cdt, checked, &inputs, &corners, regions, reports);
+            return finish(&cdt, spec, checked, &inputs, &corners, regions, reports);
         }
         for (a, b) in seams {
             let (pa, pb) = (pos(&cdt, a), b);
@@ -333,14 +338,15 @@ fn seams_for(
 /// Edge sources, vertex ranks and the regions as vertex loops.
 fn finish(
     cdt: &Cdt,
+    spec: &CutSpec,
     checked: &Checked,
     inputs: &[Segment],
-    corners: &[FixedVertexHandle],
+    corners: &[(FixedVertexHandle, u8)],
     found: Vec<Found>,
     reports: Vec<Report>,
 ) -> Result<Arrangement, CutError> {
     let positions: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
-    let mut rank = vec![2u8; positions.len()];
+    let mut rank = vec![4u8; positions.len()];
     let grid = super::polish::SegmentGrid::new(inputs, checked);
     let mut regions = Vec::with_capacity(found.len());
     for f in found {
@@ -353,17 +359,21 @@ fn finish(
                 at: pa,
                 message: "a block edge lies on no trace, joint or outline".into(),
             })?;
-            if matches!(source, EdgeSource::Outline) || matches!(source, EdgeSource::Excavation(_)) {
-                rank[a.index()] = rank[a.index()].min(1);
-                rank[b.index()] = rank[b.index()].min(1);
-            }
+            let on = match source {
+                EdgeSource::Outline => 1,
+                EdgeSource::Excavation(i) if !spec.excavations[i].keep => 1,
+                EdgeSource::Excavation(_) => 3,
+                _ => 4,
+            };
+            rank[a.index()] = rank[a.index()].min(on);
+            rank[b.index()] = rank[b.index()].min(on);
             verts.push(a.index());
             edges.push(source);
         }
         regions.push(Region { verts, edges, excavation: f.excavation });
     }
-    for c in corners {
-        rank[c.index()] = 0;
+    for &(c, r) in corners {
+        rank[c.index()] = rank[c.index()].min(r);
     }
     Ok(Arrangement { positions, rank, regions, reports })
 }
