@@ -26,9 +26,9 @@ pub(crate) struct Region {
 #[derive(Debug)]
 pub(crate) struct Arrangement {
     pub positions: Vec<[f64; 2]>,
-    /// The merge rank (math note §12.8): 0 a vertex of the domain or a removed excavation; 1 on
-    /// their outlines; 2 a vertex of a kept excavation; 3 on a kept excavation's outline; 4 any
-    /// other. Merged vertices move to the one of lowest rank (then index).
+    /// The merge rank (math note §12.8): 0 a vertex of the domain, 1 on its outline; 2 and 3 the
+    /// same for a removed excavation, 4 and 5 for a kept one; 6 any other. Merged vertices move
+    /// to the one of lowest rank (then index).
     pub rank: Vec<u8>,
     pub regions: Vec<Region>,
     pub reports: Vec<Report>,
@@ -74,11 +74,11 @@ pub(crate) fn build(
     let magnitude = checked.lo.iter().chain(&checked.hi).fold(0.0_f64, |m, c| m.max(c.abs()));
     let snap = 1e-14 * checked.scale.max(magnitude);
     let mut polygon = |poly: &[[f64; 2]], source: EdgeSource, cdt: &mut Cdt, reports: &mut Vec<Report>| {
-        // a kept excavation's corners yield to the outline's (math note §12.8)
-        let kept = matches!(source, EdgeSource::Excavation(i) if spec.excavations[i].keep);
+        // the domain's corners first, then a removed excavation's, then a kept one's (§12.8)
+        let rank = outline_rank(spec, source) - 1;
         for i in 0..poly.len() {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            corners.push((insert(cdt, a)?, if kept { 2 } else { 0 }));
+            corners.push((insert(cdt, a)?, rank));
             add(cdt, a, b, snap, reports)?;
             inputs.push(Segment { a, b, source });
         }
@@ -335,6 +335,18 @@ fn seams_for(
     out
 }
 
+/// The merge rank of a vertex on an edge of `source` (math note §12.8): 1 on the domain's
+/// outline, 3 on a removed excavation's, 5 on a kept one's, 6 elsewhere; a corner of the outline
+/// ranks one lower.
+fn outline_rank(spec: &CutSpec, source: EdgeSource) -> u8 {
+    match source {
+        EdgeSource::Outline => 1,
+        EdgeSource::Excavation(i) if !spec.excavations[i].keep => 3,
+        EdgeSource::Excavation(_) => 5,
+        _ => 6,
+    }
+}
+
 /// Edge sources, vertex ranks and the regions as vertex loops.
 fn finish(
     cdt: &Cdt,
@@ -346,7 +358,7 @@ fn finish(
     reports: Vec<Report>,
 ) -> Result<Arrangement, CutError> {
     let positions: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
-    let mut rank = vec![4u8; positions.len()];
+    let mut rank = vec![6u8; positions.len()];
     let grid = super::polish::SegmentGrid::new(inputs, checked);
     let mut regions = Vec::with_capacity(found.len());
     for f in found {
@@ -359,12 +371,7 @@ fn finish(
                 at: pa,
                 message: "a block edge lies on no trace, joint or outline".into(),
             })?;
-            let on = match source {
-                EdgeSource::Outline => 1,
-                EdgeSource::Excavation(i) if !spec.excavations[i].keep => 1,
-                EdgeSource::Excavation(_) => 3,
-                _ => 4,
-            };
+            let on = outline_rank(spec, source);
             rank[a.index()] = rank[a.index()].min(on);
             rank[b.index()] = rank[b.index()].min(on);
             verts.push(a.index());
