@@ -543,6 +543,14 @@ mod fuzz_crashes {
         check(include_bytes!("../fuzz/crashes/cut/crash-141367992574cda1dabce779d78ccd860eb82472"));
     }
 
+    /// The fuzz target's area identity (header above) on the input it stopped on after 4,475
+    /// executions: the blocks summed to 17.57318029975338 against 17.58412627092939 for the
+    /// domain less the removed excavation (closed form, shoelace of the two input polygons).
+    #[test]
+    fn area_6f7d9fea10b3() {
+        check(include_bytes!("../fuzz/crashes/cut/area-6f7d9fea10b36ae87f22a0a0c8b8ceb903537f5c"));
+    }
+
     /// Every input of the kept fuzz corpus (fuzz/corpus/cut) cuts or is refused with an error
     /// naming its input (spacing, block limit, ...), never by the panic guard around the
     /// triangulation (`CutError::Degenerate` "triangulation failed"); a cut passes the area

@@ -4,6 +4,9 @@
 //! areas sum to the domain's less the removed excavation's (1e-9 relative) for a star-shaped
 //! domain and at most one removed excavation inside it; each reported merge or dropped sliver may
 //! move the outline by up to max(min_edge, 1e-9 D) near a corner, so each allows that squared.
+//! An excavation with a vertex within three merge distances of the domain's outline (a chain of
+//! merges may join them) has no identity: by design (math note §12.8) its corner moves onto the
+//! outline, which changes its area by up to the merge distance times its edges there.
 
 use pbdda::rockmass::{Bridges, CutSpec, Excavation, Joint, JointSet, circle, cut};
 
@@ -24,6 +27,19 @@ impl Bytes<'_> {
 fn shoelace(p: &[[f64; 2]]) -> f64 {
     (0..p.len()).map(|i| p[i][0] * p[(i + 1) % p.len()][1] - p[i][1] * p[(i + 1) % p.len()][0]).sum::<f64>()
         / 2.0
+}
+
+fn distance_to_outline(p: [f64; 2], poly: &[[f64; 2]]) -> f64 {
+    let mut best = f64::INFINITY;
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let dd = d[0] * d[0] + d[1] * d[1];
+        let t =
+            if dd > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+        best = best.min((p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1]));
+    }
+    best
 }
 
 fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
@@ -89,7 +105,10 @@ pub fn decode(data: &[u8]) -> (CutSpec, Option<f64>) {
         block_limit: 2_000,
     };
     let removed: Vec<&Excavation> = excavations.iter().filter(|e| !e.keep).collect();
-    let within = removed.iter().all(|e| e.vertices.iter().all(|p| inside(*p, &domain)));
+    let margin = 3.0 * merge_distance(spec.min_edge);
+    let within = removed
+        .iter()
+        .all(|e| e.vertices.iter().all(|p| inside(*p, &domain) && distance_to_outline(*p, &domain) > margin));
     let expected = (!free && removed.len() <= 1 && within)
         .then(|| shoelace(&domain).abs() - removed.iter().map(|e| shoelace(&e.vertices)).sum::<f64>());
     (spec, expected)
@@ -102,10 +121,16 @@ pub fn check(data: &[u8]) {
     check_area(&spec, &c, expected);
 }
 
+/// The cutter's merge distance, max(min_edge, 1e-9 D), with D = 30 bounding the diagonal of the
+/// decoder's domains (inside [-10, 10]^2).
+fn merge_distance(min_edge: f64) -> f64 {
+    min_edge.max(1e-9 * 30.0)
+}
+
 pub fn check_area(spec: &CutSpec, c: &pbdda::rockmass::Cut, expected: Option<f64>) {
     if let Some(expected) = expected {
         let total: f64 = c.blocks.iter().map(|b| b.area).sum();
-        let merge = spec.min_edge.max(1e-9 * 30.0);
+        let merge = merge_distance(spec.min_edge);
         let tol = 1e-9 * expected + c.reports.len() as f64 * 4.0 * merge * merge;
         assert!((total - expected).abs() <= tol, "area {total} against {expected}");
     }

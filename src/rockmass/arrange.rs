@@ -26,8 +26,9 @@ pub(crate) struct Region {
 #[derive(Debug)]
 pub(crate) struct Arrangement {
     pub positions: Vec<[f64; 2]>,
-    /// 0: a vertex of the outline or an excavation; 1: on the outline or a removed excavation's
-    /// outline; 2: any other. Merged vertices move to the one of lowest rank (then index).
+    /// The merge rank (math note §12.8): 0 a vertex of the domain, 1 on its outline; 2 and 3 the
+    /// same for a removed excavation, 4 and 5 for a kept one; 6 any other. Merged vertices move
+    /// to the one of lowest rank (then index).
     pub rank: Vec<u8>,
     pub regions: Vec<Region>,
     pub reports: Vec<Report>,
@@ -67,13 +68,17 @@ pub(crate) fn build(
     let mut inputs: Vec<Segment> = Vec::new();
     let mut corners = Vec::new();
     let mut reports = Vec::new();
-    // a few dozen ulps of the coordinates: far below the 1e-9 D the trace ends reach past a
+    // a few dozen ulps of the coordinates (of the domain's size, or of their magnitude where
+    // the domain lies far from the origin): far below the 1e-9 D the trace ends reach past a
     // line (§12.1), which a larger snap would pull the line onto
-    let snap = 1e-14 * checked.scale;
+    let magnitude = checked.lo.iter().chain(&checked.hi).fold(0.0_f64, |m, c| m.max(c.abs()));
+    let snap = 1e-14 * checked.scale.max(magnitude);
     let mut polygon = |poly: &[[f64; 2]], source: EdgeSource, cdt: &mut Cdt, reports: &mut Vec<Report>| {
+        // the domain's corners first, then a removed excavation's, then a kept one's (§12.8)
+        let rank = outline_rank(spec, source) - 1;
         for i in 0..poly.len() {
             let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            corners.push(insert(cdt, a)?);
+            corners.push((insert(cdt, a)?, rank));
             add(cdt, a, b, snap, reports)?;
             inputs.push(Segment { a, b, source });
         }
@@ -97,7 +102,7 @@ pub(crate) fn build(
             }
         }
         if seams.is_empty() {
-            return finish(&cdt, checked, &inputs, &corners, regions, reports);
+            return finish(&cdt, spec, checked, &inputs, &corners, regions, reports);
         }
         for (a, b) in seams {
             let (pa, pb) = (pos(&cdt, a), b);
@@ -330,17 +335,30 @@ fn seams_for(
     out
 }
 
+/// The merge rank of a vertex on an edge of `source` (math note §12.8): 1 on the domain's
+/// outline, 3 on a removed excavation's, 5 on a kept one's, 6 elsewhere; a corner of the outline
+/// ranks one lower.
+fn outline_rank(spec: &CutSpec, source: EdgeSource) -> u8 {
+    match source {
+        EdgeSource::Outline => 1,
+        EdgeSource::Excavation(i) if !spec.excavations[i].keep => 3,
+        EdgeSource::Excavation(_) => 5,
+        _ => 6,
+    }
+}
+
 /// Edge sources, vertex ranks and the regions as vertex loops.
 fn finish(
     cdt: &Cdt,
+    spec: &CutSpec,
     checked: &Checked,
     inputs: &[Segment],
-    corners: &[FixedVertexHandle],
+    corners: &[(FixedVertexHandle, u8)],
     found: Vec<Found>,
     reports: Vec<Report>,
 ) -> Result<Arrangement, CutError> {
     let positions: Vec<[f64; 2]> = cdt.vertices().map(|v| [v.position().x, v.position().y]).collect();
-    let mut rank = vec![2u8; positions.len()];
+    let mut rank = vec![6u8; positions.len()];
     let grid = super::polish::SegmentGrid::new(inputs, checked);
     let mut regions = Vec::with_capacity(found.len());
     for f in found {
@@ -353,17 +371,16 @@ fn finish(
                 at: pa,
                 message: "a block edge lies on no trace, joint or outline".into(),
             })?;
-            if matches!(source, EdgeSource::Outline) || matches!(source, EdgeSource::Excavation(_)) {
-                rank[a.index()] = rank[a.index()].min(1);
-                rank[b.index()] = rank[b.index()].min(1);
-            }
+            let on = outline_rank(spec, source);
+            rank[a.index()] = rank[a.index()].min(on);
+            rank[b.index()] = rank[b.index()].min(on);
             verts.push(a.index());
             edges.push(source);
         }
         regions.push(Region { verts, edges, excavation: f.excavation });
     }
-    for c in corners {
-        rank[c.index()] = 0;
+    for &(c, r) in corners {
+        rank[c.index()] = rank[c.index()].min(r);
     }
     Ok(Arrangement { positions, rank, regions, reports })
 }

@@ -22,10 +22,13 @@ fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
     (p[0] - q[0]).hypot(p[1] - q[1])
 }
 
-/// The crossing of the lines p1p2 (the crossed edge) and p3p4 (the new constraint), by spade's
-/// formula (`cdt::get_edge_intersections`, so that a cut spade could split alone gets the same
-/// coordinates); parallel lines, or a point off the crossed edge by more than `snap`, give the
-/// crossed edge's point nearest the constraint's line instead.
+/// The crossing of the crossed edge p1p2 with the new constraint p3p4 (math note §12.8): by
+/// spade's formula (`cdt::get_edge_intersections`, exact where both lines are axis-parallel)
+/// when that point lies within `snap` of the crossed edge; else `p1 + t (p2 - p1)`,
+/// `t = ((p3 - p1) x d2) / (d1 x d2)` clamped to [0, 1]. Spade's line walk has found (by exact
+/// predicates) that the two cross properly, so the exact t lies in (0, 1) and that point is on
+/// the crossed edge to the rounding of its coordinates, however far they are from the origin.
+/// Lines parallel in floating point give the crossed edge's end nearer the constraint's line.
 fn crossing(p1: [f64; 2], p2: [f64; 2], p3: [f64; 2], p4: [f64; 2], snap: f64) -> [f64; 2] {
     let (a1, b1) = (p2[1] - p1[1], p1[0] - p2[0]);
     let c1 = a1 * p1[0] + b1 * p1[1];
@@ -33,15 +36,21 @@ fn crossing(p1: [f64; 2], p2: [f64; 2], p3: [f64; 2], p4: [f64; 2], snap: f64) -
     let c2 = a2 * p3[0] + b2 * p3[1];
     let det = a1 * b2 - a2 * b1;
     let p = [(b2 * c1 - b1 * c2) / det, (a1 * c2 - a2 * c1) / det];
-    let (ex, ey) = (p2[0] - p1[0], p2[1] - p1[1]);
-    let len2 = ex * ex + ey * ey;
-    let t = ((p[0] - p1[0]) * ex + (p[1] - p1[1]) * ey) / len2;
-    let foot = |t: f64| [p1[0] + t * ex, p1[1] + t * ey];
-    if p[0].is_finite() && p[1].is_finite() && dist(p, foot(t.clamp(0.0, 1.0))) <= snap {
+    let d1 = [p2[0] - p1[0], p2[1] - p1[1]];
+    let len2 = d1[0] * d1[0] + d1[1] * d1[1];
+    let along = (((p[0] - p1[0]) * d1[0] + (p[1] - p1[1]) * d1[1]) / len2).clamp(0.0, 1.0);
+    let foot = [p1[0] + along * d1[0], p1[1] + along * d1[1]];
+    if p[0].is_finite() && p[1].is_finite() && dist(p, foot) <= snap {
         return p;
     }
-    // the end of the crossed edge nearer the constraint's line (the two lie on either side)
-    let side = |q: [f64; 2]| (a2 * q[0] + b2 * q[1] - c2).abs();
+    let cross = |u: [f64; 2], w: [f64; 2]| u[0] * w[1] - u[1] * w[0];
+    let d2 = [p4[0] - p3[0], p4[1] - p3[1]];
+    let t = cross([p3[0] - p1[0], p3[1] - p1[1]], d2) / cross(d1, d2);
+    if t.is_finite() {
+        let t = t.clamp(0.0, 1.0);
+        return [p1[0] + t * d1[0], p1[1] + t * d1[1]];
+    }
+    let side = |q: [f64; 2]| cross([q[0] - p3[0], q[1] - p3[1]], d2).abs();
     if side(p1) <= side(p2) { p1 } else { p2 }
 }
 
