@@ -274,6 +274,7 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
         )?,
         allow_unconverged: s.allow_unconverged.unwrap_or(default.allow_unconverged),
         factor_drift: or_default(&s.factor_drift, "factor_drift", non_negative, default.factor_drift)?,
+        friction_stops: s.friction_stops.unwrap_or(default.friction_stops),
     })
 }
 
