@@ -147,6 +147,10 @@ pub struct SolverSettings {
     /// refactors every step; a positive value keeps a factor while no element has turned or
     /// strained by more than it since the factor was formed.
     pub factor_drift: f64,
+    /// Solve 2 holds the friction rows whose slip solve 1 stops (`[solver] friction_stops`,
+    /// math note §10.15), so a body friction stops has zero velocity; default false (they cost
+    /// repeated solve 2s on jammed piles).
+    pub friction_stops: bool,
 }
 
 impl Default for SolverSettings {
@@ -157,6 +161,7 @@ impl Default for SolverSettings {
             method: crate::vi::Chain::named(crate::vi::Method::Mprgp),
             allow_unconverged: false,
             factor_drift: 0.0,
+            friction_stops: false,
         }
     }
 }

@@ -17,7 +17,8 @@
 //!   distance within a dt^2 / 8 + 1e-9.
 //!
 //! Two launch speeds: v0 = 0.048 (t* = 0.0383 s, second half of step 4) and v0 = 0.043
-//! (t* = 0.0343 s, first half of step 4).
+//! (t* = 0.0343 s, first half of step 4). The rule is off by default; the first turns it on by
+//! the scene's `[solver] friction_stops = true`, the second by `World::settings`.
 
 use pbdda::geometry::Vec2;
 use pbdda::world::World;
@@ -31,8 +32,9 @@ fn alpha() -> f64 {
 }
 
 /// The incline (top face through the origin, rising to the right at alpha) and the block on
-/// it with its lower corner at the origin, launched down-slope at v0.
-fn scene(v0: f64) -> String {
+/// it with its lower corner at the origin, launched down-slope at v0; `key`: the scene turns
+/// friction stops on.
+fn scene(v0: f64, key: bool) -> String {
     let (s, c) = alpha().sin_cos();
     let rot = |x: f64, y: f64| format!("[{:?}, {:?}]", x * c - y * s, x * s + y * c);
     let poly = |p: &[(f64, f64)]| p.iter().map(|&(x, y)| rot(x, y)).collect::<Vec<_>>().join(", ");
@@ -48,6 +50,7 @@ steps = 30
 gravity = [0.0, -{G}]
 [solver]
 tolerance = 1e-12
+friction_stops = {key}
 [[material]]
 name = "rock"
 density = 2500.0
@@ -71,7 +74,8 @@ velocity = [{:?}, {:?}]
     )
 }
 
-fn check(v0: f64) {
+/// `key`: friction stops from the scene's key, else from `World::settings`.
+fn check(v0: f64, key: bool) {
     let (s, c) = alpha().sin_cos();
     let a = G * (MU * c - s);
     let t_star = v0 / a;
@@ -82,9 +86,10 @@ fn check(v0: f64) {
     let stop = (t_star / DT).round() * DT;
     let parabola = |t: f64| v0 * t - a * t * t / 2.0;
     let down = Vec2::new(-c, -s);
-    let model = pbdda::scene::parse(&scene(v0), "stop.toml").unwrap_or_else(|e| panic!("{e}"));
+    let model = pbdda::scene::parse(&scene(v0, key), "stop.toml").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(model.solver.friction_stops, key, "the scene's [solver] friction_stops");
     let mut world = World::new(model);
-    world.settings.friction_stops = true; // off by default (World Settings)
+    world.settings.friction_stops = !key; // off by default (World Settings)
     let b = world.bodies.iter().position(|b| b.name == "block").expect("block");
     let c0 = world.bodies[b].centroid;
     for step in 1..=30 {
@@ -112,10 +117,10 @@ fn check(v0: f64) {
 
 #[test]
 fn a_block_stopped_in_the_second_half_of_a_step_stops_at_its_end() {
-    check(0.048);
+    check(0.048, true);
 }
 
 #[test]
 fn a_block_stopped_in_the_first_half_of_a_step_stops_at_its_start() {
-    check(0.043);
+    check(0.043, false);
 }

@@ -269,6 +269,7 @@ fn solver(s: &raw::Solver) -> Check<SolverSettings> {
         method: or_default(&s.method, "method", chain, default.method)?,
         allow_unconverged: s.allow_unconverged.unwrap_or(default.allow_unconverged),
         factor_drift: or_default(&s.factor_drift, "factor_drift", non_negative, default.factor_drift)?,
+        friction_stops: s.friction_stops.unwrap_or(default.friction_stops),
     })
 }
 

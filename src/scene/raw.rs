@@ -113,6 +113,7 @@ pub(super) struct Solver {
     pub method: Option<Spanned<toml::Value>>,
     pub allow_unconverged: Option<bool>,
     pub factor_drift: Option<Spanned<f64>>,
+    pub friction_stops: Option<bool>,
 }
 
 /// `[[material]]`

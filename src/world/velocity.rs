@@ -49,7 +49,9 @@ impl World {
     ) -> Option<Targets> {
         // no tangential force can stop a slip and every contact is elastic: no rates to compute
         let holds = |l: &Law| l.friction > 0.0 || l.rolling > 0.0 || l.cohesion > 0.0 || l.bonded;
-        let stops = self.settings.friction_stops && laws.iter().any(holds);
+        // the scene's `[solver] friction_stops` or the program's setting
+        let on = self.model.solver.friction_stops || self.settings.friction_stops;
+        let stops = on && laws.iter().any(holds);
         if !stops && laws.iter().all(|l| l.restitution >= 1.0) {
             return None;
         }
@@ -74,7 +76,7 @@ impl World {
             if e < 1.0 && u0[r] * h < -noise {
                 target(r, e);
             }
-            for row in (r + 1..c.rows().end).filter(|_| self.settings.friction_stops) {
+            for row in (r + 1..c.rows().end).filter(|_| on) {
                 let u = u0[row];
                 let u1 = 2.0 * state.gaps[row] / h - u;
                 if (u * h).abs() > noise && u * u1 <= 0.0 {

@@ -20,8 +20,10 @@
 //! that did not converge, the iterations per step and the kinetic energy: the long-run check
 //! of issue 10's "no unconverged step" (the table above covers 20 steps).
 //!
-//! `cargo run --release -- moving [quick]` and `-- trade`: the moving scenes of issue 55 and
-//! their speed/accuracy trade (`moving.rs`).
+//! `cargo run --release -- moving [quick] [SCENE...] [with=auto,newton,...] [noref]` and
+//! `-- trade [DT...]`: the moving scenes of issue 55 and their speed/accuracy trade
+//! (`moving.rs`). `-- methods`: the 1,000-disk pile with each VI method at tolerances 1e-6 and
+//! 1e-8. `-- stops`: the cost of friction stops (math note §10.15) on slumping and settled piles.
 
 mod moving;
 mod scenes;
@@ -226,16 +228,130 @@ fn long_run(args: &[String]) {
     );
 }
 
+/// `moving [quick] [SCENE...] [with=CONFIG,...] [noref]`: the moving scenes (all of
+/// `moving::SCENES` by default, `quick`: c200 and s60) with pbdda's configurations (`auto`,
+/// `newton`, `mprgp`, ..., each optionally `+stops`; default `auto,newton`); `noref` skips the
+/// collapses' tolerance-1e-10 reference runs.
+fn moving_args(args: &[String]) {
+    let mut keys: Vec<String> = Vec::new();
+    let mut configs = vec![moving::Config::DEFAULT, moving::Config { method: Method::Newton, stops: false }];
+    let mut with_reference = true;
+    for a in args {
+        if a == "quick" {
+            keys.extend(["c200", "s60"].map(String::from));
+        } else if a == "noref" {
+            with_reference = false;
+        } else if let Some(list) = a.strip_prefix("with=") {
+            configs = list
+                .split(',')
+                .map(|c| {
+                    let (name, stops) = c.strip_suffix("+stops").map_or((c, false), |n| (n, true));
+                    let method = Method::parse(name).unwrap_or_else(|| panic!("unknown method {name}"));
+                    moving::Config { method, stops }
+                })
+                .collect();
+        } else {
+            keys.push(a.clone());
+        }
+    }
+    if keys.is_empty() {
+        keys = moving::SCENES.map(String::from).to_vec();
+    }
+    moving::table(&keys, &configs, with_reference);
+}
+
+/// `methods`: the settled 1,000-disk pile with each VI method at tolerances 1e-6 and 1e-8:
+/// time per step, iterations, step-1 force error against PC at 1e-10, sink.
+fn methods() {
+    let pile = pile_of("1000");
+    let (_, _, reference, _) = pbdda_run(&pile, Method::Pc, 1e-10, 1);
+    println!(
+        "| method | tolerance | ms/step, mean of {STEPS} | ms/step, median of steps 2-{STEPS} | iterations/step | step-1 force error vs pc 1e-10 | sink [m] after {STEPS} steps |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for tol in [1e-6, 1e-8] {
+        for method in [Method::Auto, Method::Newton, Method::Mprgp, Method::Nsgs] {
+            let (ms, it, pairs, sink) = pbdda_run(&pile, method, tol, STEPS);
+            println!(
+                "| {} | {tol:e} | {:.2} | {:.2} | {it:.0} | {:.2e} | {sink:.2e} |",
+                method.name(),
+                ms.mean,
+                ms.warm_median,
+                error(&pairs, &reference)
+            );
+        }
+    }
+}
+
+/// `stops`: the cost of friction stops (math note §10.15) on frictional disk piles, on and
+/// off: the 60-disk slumping pile of tests/slumping_pile.rs (the bench pile with its right wall moved
+/// 0.05 m out, the scene format's iteration budget) and the settled 1,000-disk pile. Wall time,
+/// iterations, unconverged steps, steps whose stops were dropped, kinetic energy at the end.
+fn stops() {
+    println!(
+        "| pile | steps | friction stops | wall [s] | iterations/step mean, max | unconverged steps | stops dropped | kinetic energy at the end [J/m] |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for (name, cols, rows, steps, slump) in
+        [("slumping, 60 disks", 10, 6, 40, true), ("settled, 1,000 disks", 40, 25, 60, false)]
+    {
+        for on in [false, true] {
+            let mut model = DiskPile::benchmark(cols, rows).model();
+            if slump {
+                let pbdda::model::Shape::Polygon { vertices } = &mut model.bodies[2].shape else {
+                    panic!("the right wall")
+                };
+                vertices.iter_mut().for_each(|v| v.x += 0.05);
+                model.solver.max_iterations = pbdda::model::SolverSettings::default().max_iterations;
+            }
+            let mut w = World::new(model);
+            w.settings.friction_stops = on;
+            w.settings.contact_records = false;
+            let (mut its, mut unconverged, mut dropped, mut kinetic) = (Vec::new(), 0, 0, 0.0);
+            let t = Instant::now();
+            for _ in 0..steps {
+                let rec = w.step().expect("pbdda step");
+                its.push(rec.inner_iterations);
+                unconverged += usize::from(!rec.converged);
+                dropped += rec
+                    .warnings
+                    .iter()
+                    .filter(|w| matches!(w, pbdda::world::Warning::StopsDropped { .. }))
+                    .count();
+                kinetic = rec.kinetic_energy;
+            }
+            let seconds = t.elapsed().as_secs_f64();
+            let mean = its.iter().sum::<usize>() as f64 / steps as f64;
+            println!(
+                "| {name} | {steps} | {} | {seconds:.2} | {mean:.0}, {} | {unconverged} | {dropped} | {kinetic:.3e} |",
+                if on { "on" } else { "off" },
+                its.iter().max().unwrap_or(&0)
+            );
+        }
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if args.get(1).is_some_and(|a| a == "stops") {
+        return stops();
+    }
+    if args.get(1).is_some_and(|a| a == "methods") {
+        return methods();
+    }
     if args.get(1).is_some_and(|a| a == "long") {
         return long_run(&args[2..]);
     }
     if args.get(1).is_some_and(|a| a == "moving") {
-        return moving::table(args.get(2).is_some_and(|a| a == "quick"));
+        return moving_args(&args[2..]);
     }
     if args.get(1).is_some_and(|a| a == "trade") {
-        return moving::trade();
+        // `trade [DT...]`: the time steps (default 2e-3, 1e-3, 5e-4)
+        let mut dts: Vec<f64> = args[2..].iter().map(|a| a.parse().expect("DT is a number")).collect();
+        if dts.is_empty() {
+            dts = vec![2e-3, 1e-3, 5e-4];
+        }
+        return moving::trade(&dts);
     }
     let has = |n: &str| args.iter().any(|a| a == n);
     let mut piles = vec![("1,000 disks", pile_of("1000"))];

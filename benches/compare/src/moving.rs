@@ -4,19 +4,55 @@
 //! the accuracy measure (run-out of the collapse and the rockfall, travel of the sliding mass
 //! against the closed form g (sin a − cos a tan φ) t² / 2).
 //!
-//! `cargo run --release -- moving [quick]`: the table (quick: only the 200-disk collapse at
-//! aspect 2 and the 60-block slide). `cargo run --release -- trade`: run-out and travel against
-//! the tolerance (1e-4 … 1e-10) and dt.
+//! `cargo run --release -- moving [quick] [SCENE...] [with=auto,newton] [noref]`: the table
+//! (`SCENES`; quick: the 200-disk collapse at aspect 2 and the 60-block slide; `with`: pbdda's
+//! methods, `+stops` for friction stops). `cargo run --release -- trade`: run-out and travel
+//! against the tolerance (1e-4 … 1e-10) and dt.
 
 use crate::scenes::{self, Measure, Scene, Shape2};
 use pbdda::geometry::Vec2;
+use pbdda::vi::Method;
 use pbdda::world::{Event, Warning, World};
 use rapier2d_f64::prelude::*;
 use std::time::Instant;
 
+/// The solver choices of a pbdda run: the VI method and the friction-stop rule of math note
+/// §10.15 (off by default, `Settings::friction_stops`).
+#[derive(Clone, Copy)]
+pub struct Config {
+    pub method: Method,
+    pub stops: bool,
+}
+
+impl Config {
+    /// The defaults a user gets: `auto`, friction stops off.
+    pub const DEFAULT: Config = Config { method: Method::Auto, stops: false };
+
+    /// A label for the table: the method, and friction stops when on.
+    pub fn label(&self, tol: f64) -> String {
+        let stops = if self.stops { ", friction stops" } else { "" };
+        format!("pbdda {} {tol:e}{stops}", self.method.name())
+    }
+}
+
+/// CPU time of this process so far [s] (Linux `/proc/self/stat` utime + stime at 100 ticks a
+/// second; 0 elsewhere): on a shared machine it measures the work where wall time measures the
+/// load.
+pub fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // the fields after the command name's closing parenthesis; utime and stime are 14 and 15
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let ticks: f64 = rest.split_whitespace().skip(11).take(2).filter_map(|f| f.parse::<f64>().ok()).sum();
+    ticks / 100.0
+}
+
 /// One pbdda run's figures.
 pub struct Run {
     pub seconds: f64,
+    /// CPU time of the run [s].
+    pub cpu: f64,
+    /// Wall time of each step [s] (its repeated trials included).
+    pub step_seconds: Vec<f64>,
     pub iterations: Vec<usize>,
     pub repeated: usize,
     pub unconverged: usize,
@@ -24,31 +60,44 @@ pub struct Run {
     pub measure: f64,
 }
 
-/// pbdda on `scene` at tolerance `tol`; `stops`: the friction-stop rule of math note §10.15.
-pub fn pbdda(scene: &Scene, tol: f64, stops: bool) -> Run {
-    let mut w = World::new(scene.model(tol));
-    w.settings.friction_stops = stops;
+/// pbdda on `scene` at tolerance `tol` with the method and friction-stop rule of `cfg`.
+pub fn pbdda(scene: &Scene, tol: f64, cfg: Config) -> Run {
+    let mut model = scene.model(tol);
+    model.solver.method = cfg.method;
+    let mut w = World::new(model);
+    w.settings.friction_stops = cfg.stops;
     w.settings.contact_records = false;
     let free: Vec<usize> = (0..scene.bodies.len()).filter(|&i| !scene.bodies[i].fixed).collect();
     let start: Vec<Vec2> = free.iter().map(|&i| w.bodies[i].centroid).collect();
-    let mut run =
-        Run { seconds: 0.0, iterations: Vec::new(), repeated: 0, unconverged: 0, dropped: 0, measure: 0.0 };
-    let t = Instant::now();
+    let mut run = Run {
+        seconds: 0.0,
+        cpu: 0.0,
+        step_seconds: Vec::new(),
+        iterations: Vec::new(),
+        repeated: 0,
+        unconverged: 0,
+        dropped: 0,
+        measure: 0.0,
+    };
+    let (t, cpu) = (Instant::now(), cpu_seconds());
     for _ in 0..scene.steps {
+        let ts = Instant::now();
         let rec = w.step().expect("pbdda step");
+        run.step_seconds.push(ts.elapsed().as_secs_f64());
         run.iterations.push(rec.inner_iterations);
         run.unconverged += usize::from(!rec.converged);
         run.repeated += rec.events.iter().filter(|e| matches!(e, Event::StepSplit { .. })).count();
         run.dropped += rec.warnings.iter().filter(|w| matches!(w, Warning::StopsDropped { .. })).count();
     }
     run.seconds = t.elapsed().as_secs_f64();
+    run.cpu = cpu_seconds() - cpu;
     let end: Vec<Vec2> = free.iter().map(|&i| w.bodies[i].centroid).collect();
     run.measure = scene.measure.of(&start, &end);
     run
 }
 
-/// rapier2d-f64 at its defaults on `scene`: (wall time [s], measure).
-pub fn rapier(scene: &Scene) -> (f64, f64) {
+/// rapier2d-f64 at its defaults on `scene`: (wall time [s], measure, median step [s], CPU [s]).
+pub fn rapier(scene: &Scene) -> (f64, f64, f64, f64) {
     let mut bodies = RigidBodySet::new();
     let mut colliders = ColliderSet::new();
     let mut free = Vec::new();
@@ -76,8 +125,10 @@ pub fn rapier(scene: &Scene) -> (f64, f64) {
     let (mut ij, mut mj, mut ccd) = (ImpulseJointSet::new(), MultibodyJointSet::new(), CCDSolver::new());
     let mut soft = SoftBodySet::new();
     let gravity = Vector::new(0.0, -9.81);
-    let t = Instant::now();
+    let (t, cpu) = (Instant::now(), cpu_seconds());
+    let mut step_seconds = Vec::new();
     for _ in 0..scene.steps {
+        let ts = Instant::now();
         pipeline.step(
             gravity,
             &params,
@@ -93,12 +144,13 @@ pub fn rapier(scene: &Scene) -> (f64, f64) {
             &(),
             &(),
         );
+        step_seconds.push(ts.elapsed().as_secs_f64());
     }
-    let seconds = t.elapsed().as_secs_f64();
+    let (seconds, cpu) = (t.elapsed().as_secs_f64(), cpu_seconds() - cpu);
     let start: Vec<Vec2> = free.iter().map(|(_, c)| *c).collect();
     let end: Vec<Vec2> =
         free.iter().map(|(h, _)| bodies[*h].translation()).map(|p| Vec2::new(p.x, p.y)).collect();
-    (seconds, scene.measure.of(&start, &end))
+    (seconds, scene.measure.of(&start, &end), median(&step_seconds), cpu)
 }
 
 /// The centroid of a polygon.
@@ -120,42 +172,74 @@ fn spread(it: &[usize]) -> (usize, usize) {
     (s[s.len() / 2], s[s.len() - 1])
 }
 
-/// The scenes of the table (`quick`: the 200-disk collapse at aspect 2 and the 60-block slide).
-fn table_scenes(quick: bool) -> Vec<Scene> {
-    let mut v = vec![scenes::collapse(200, 2.0, 1e-3, 400), scenes::slide(20, 3, 1e-3, 300)];
-    if !quick {
-        v.insert(1, scenes::collapse(200, 5.0, 1e-3, 400));
-        v.insert(2, scenes::collapse(2000, 2.0, 1e-3, 100));
-        v.push(scenes::slide(60, 10, 1e-3, 100));
-        v.push(scenes::rockfall(1e-3, 1500));
+/// The scenes of the table by key: `c200` (200-disk collapse, aspect 2), `c200a5` (aspect 5),
+/// `c2000` (2,000 disks, aspect 2), `s60` and `s600` (60 and 600 sliding blocks), `rockfall`.
+pub const SCENES: [&str; 6] = ["c200", "c200a5", "c2000", "s60", "s600", "rockfall"];
+
+/// The scene of a key of [`SCENES`]: dt and duration as issue 55 states them where it does (the
+/// 200-disk collapse: dt = 5e-4 s to 1.2 s). `KEY@T` runs the scene to T seconds instead.
+pub fn scene_of(key: &str) -> Option<Scene> {
+    if let Some((key, t)) = key.split_once('@') {
+        let mut scene = scene_of(key)?;
+        scene.steps = (t.parse::<f64>().ok()? / scene.dt).round() as usize;
+        return Some(scene);
     }
-    v
+    Some(match key {
+        "c200" => scenes::collapse(200, 2.0, 5e-4, 2400),
+        "c200a5" => scenes::collapse(200, 5.0, 5e-4, 2400),
+        "c2000" => scenes::collapse(2000, 2.0, 5e-4, 2400),
+        "s60" => scenes::slide(20, 3, 1e-3, 300),
+        "s600" => scenes::slide(60, 10, 1e-3, 300),
+        "rockfall" => scenes::rockfall(1e-3, 1500),
+        _ => return None,
+    })
 }
 
 /// The accuracy reference of a scene: the closed form for the slide, pbdda at 1e-10 otherwise.
 fn reference(scene: &Scene) -> (f64, &'static str) {
     match scene.measure {
         Measure::Travel(_) => (scenes::slide_travel(scene.dt * scene.steps as f64), "closed form"),
-        Measure::RunOut(_) => (pbdda(scene, 1e-10, true).measure, "pbdda 1e-10"),
+        Measure::RunOut(_) => (pbdda(scene, 1e-10, Config::DEFAULT).measure, "pbdda auto 1e-10"),
     }
 }
 
-/// `moving [quick]`: the table of the moving scenes.
-pub fn table(quick: bool) {
+/// Median of a list.
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s[s.len() / 2]
+}
+
+/// `moving [SCENE...]`: the table of the moving scenes `keys`, each in pbdda at tolerance 1e-8
+/// (the default) with each of `configs`, then in rapier2d-f64 at its defaults; `reference`:
+/// also the pbdda 1e-10 run of the collapses' run-out (else the column is empty).
+pub fn table(keys: &[String], configs: &[Config], with_reference: bool) {
     println!(
-        "| scene | engine | simulated [s] | wall [s] | iterations/step median, max | repeated steps | unconverged steps | stops dropped | run-out or travel [m] | vs reference | reference |"
+        "| scene | engine | simulated [s] | wall [s] | wall / rapier | CPU [s] | CPU / rapier | ms/step median | iterations/step median, max | repeated steps | unconverged steps | stops dropped | run-out or travel [m] | vs reference | reference |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for scene in table_scenes(quick) {
-        let (reference, what) = reference(&scene);
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for key in keys {
+        let Some(scene) = scene_of(key) else {
+            panic!("unknown scene {key}: one of {SCENES:?}");
+        };
+        let (reference, what) = match (scene.measure, with_reference) {
+            (Measure::RunOut(_), false) => (f64::NAN, "(not run)"),
+            _ => reference(&scene),
+        };
         let simulated = scene.dt * scene.steps as f64;
-        for (label, stops) in [("pbdda 1e-8", true), ("pbdda 1e-8, no friction stops", false)] {
-            let r = pbdda(&scene, 1e-8, stops);
-            let (median, max) = spread(&r.iterations);
+        let (rapier_seconds, rapier_measure, rapier_step, rapier_cpu) = rapier(&scene);
+        for cfg in configs {
+            let r = pbdda(&scene, 1e-8, *cfg);
+            let (it_median, it_max) = spread(&r.iterations);
             println!(
-                "| {} | {label} | {simulated} | {:.2} | {median}, {max} | {} | {} | {} | {:.6e} | {:.2e} | {what} |",
+                "| {} | {} | {simulated:.3} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} | {it_median}, {it_max} | {} | {} | {} | {:.6e} | {:.2e} | {what} |",
                 scene.name,
+                cfg.label(1e-8),
                 r.seconds,
+                r.seconds / rapier_seconds,
+                r.cpu,
+                r.cpu / rapier_cpu,
+                median(&r.step_seconds) * 1e3,
                 r.repeated,
                 r.unconverged,
                 r.dropped,
@@ -163,35 +247,35 @@ pub fn table(quick: bool) {
                 r.measure - reference
             );
         }
-        let (seconds, measure) = rapier(&scene);
         println!(
-            "| {} | rapier default | {simulated} | {seconds:.2} | 4 | | | | {measure:.6e} | {:.2e} | {what} |",
+            "| {} | rapier default | {simulated:.3} | {rapier_seconds:.2} | 1 | {rapier_cpu:.2} | 1 | {:.3} | 4 | | | | {rapier_measure:.6e} | {:.2e} | {what} |",
             scene.name,
-            measure - reference
+            rapier_step * 1e3,
+            rapier_measure - reference
         );
     }
 }
 
 /// `trade`: the measures of the 200-disk collapse and the 60-block slide against the tolerance
 /// and dt (math note §4.3), against the tolerance-1e-10 run at the same dt (and, for the slide,
-/// the closed form).
-pub fn trade() {
+/// the closed form), at each dt of `dts`.
+pub fn trade(dts: &[f64]) {
     println!(
         "| scene | dt [s] | tolerance | wall [s] | iterations/step median, max | unconverged steps | run-out or travel [m] | vs 1e-10 at this dt | vs closed form |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     let simulated = 0.3;
-    for dt in [2e-3, 1e-3, 5e-4] {
+    for &dt in dts {
         let steps = (simulated / dt).round() as usize;
         for scene in [scenes::collapse(200, 2.0, dt, steps), scenes::slide(20, 3, dt, steps)] {
-            let tight = pbdda(&scene, 1e-10, true).measure;
+            let tight = pbdda(&scene, 1e-10, Config::DEFAULT).measure;
             let closed = match scene.measure {
                 Measure::Travel(_) => format!("{:.2e}", tight - scenes::slide_travel(simulated)),
                 Measure::RunOut(_) => String::new(),
             };
             println!("| {} | {dt} | 1e-10 | | | | {tight:.6e} | 0 | {closed} |", scene.name);
             for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9] {
-                let r = pbdda(&scene, tol, true);
+                let r = pbdda(&scene, tol, Config::DEFAULT);
                 let (median, max) = spread(&r.iterations);
                 let closed = match scene.measure {
                     Measure::Travel(_) => format!("{:.2e}", r.measure - scenes::slide_travel(simulated)),
