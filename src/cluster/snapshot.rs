@@ -32,7 +32,8 @@ pub struct FlexState {
 /// One cluster's factor.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 enum FactorState {
-    Body { inverse: BodyMatrix, root: BodyMatrix },
+    // boxed: the variant is far larger than the others (postcard writes a box as its contents)
+    Body { inverse: Box<BodyMatrix>, root: Box<BodyMatrix> },
     Dense { n: usize, inverse: Vec<f64>, root: Vec<f64> },
     Sparse(SparseState),
 }
@@ -53,7 +54,9 @@ impl Flexibility {
             .factors
             .iter()
             .map(|f| match f.as_ref() {
-                Factor::Body { inverse, root } => FactorState::Body { inverse: *inverse, root: *root },
+                Factor::Body { inverse, root } => {
+                    FactorState::Body { inverse: Box::new(*inverse), root: Box::new(*root) }
+                }
                 Factor::Dense(d) => {
                     FactorState::Dense { n: d.n, inverse: d.inverse.clone(), root: d.root.clone() }
                 }
@@ -79,7 +82,7 @@ impl Flexibility {
         let mut factors = Vec::with_capacity(state.factors.len());
         for f in state.factors {
             factors.push(Arc::new(match f {
-                FactorState::Body { inverse, root } => Factor::Body { inverse, root },
+                FactorState::Body { inverse, root } => Factor::Body { inverse: *inverse, root: *root },
                 FactorState::Dense { n, inverse, root } => Factor::Dense(super::Dense { n, inverse, root }),
                 FactorState::Sparse(s) => Factor::Sparse(SparseFactor::from_state(s)?),
             }));

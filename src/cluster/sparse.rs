@@ -9,6 +9,9 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
 use std::sync::{Arc, Mutex};
 
+/// Size, pattern and numeric values of a sparse factor ([`SparseFactor::parts`]).
+pub(super) type SparseParts<'a> = (usize, &'a [(usize, usize)], Option<&'a Vec<f64>>);
+
 /// Columns solved at once by [`SparseFactor::inverse_block_by_solves`] (16 columns of 100k
 /// DOF take 13 MB).
 const COLUMN_BATCH: usize = 16;
@@ -122,7 +125,7 @@ impl SparseFactor {
     }
 
     /// Size, pattern and numeric values (a checkpoint's state, `snapshot.rs`).
-    pub(super) fn parts(&self) -> (usize, &[(usize, usize)], Option<&Vec<f64>>) {
+    pub(super) fn parts(&self) -> SparseParts<'_> {
         (self.n, &self.pattern, self.numeric.as_ref())
     }
 

@@ -151,11 +151,11 @@ fn regions(spec: &CutSpec, checked: &Checked, cdt: &Cdt) -> Result<Vec<Found>, C
                 if e.is_constraint_edge() {
                     continue;
                 }
-                if let Some(g) = e.rev().face().as_inner() {
-                    if region[g.fix().index()] == usize::MAX {
-                        region[g.fix().index()] = id;
-                        stack.push(g.fix());
-                    }
+                if let Some(g) = e.rev().face().as_inner()
+                    && region[g.fix().index()] == usize::MAX
+                {
+                    region[g.fix().index()] = id;
+                    stack.push(g.fix());
                 }
             }
         }

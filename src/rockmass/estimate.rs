@@ -189,7 +189,7 @@ fn estimate_blocks(spec: &CutSpec, domain: &[[f64; 2]]) -> Result<(), CutError> 
             let gap_y = (lo[1] - s.origin[1]).max(s.origin[1] - hi[1]).max(0.0);
             let length = diagonal + 2.0 * gap_x.hypot(gap_y);
             let pieces = n[set] * ((length / period).floor() + 2.0);
-            if !(pieces <= 4.0 * limit) {
+            if pieces.is_nan() || pieces > 4.0 * limit {
                 return Err(CutError::Set {
                     set,
                     message: format!(

@@ -111,15 +111,17 @@ pub(crate) fn join_thin(
         let n = p.verts.len();
         for e in 0..n {
             let (u, v) = (p.verts[e], p.verts[(e + 1) % n]);
-            if let Some(&j) = owner.get(&(v, u)) {
-                if j != i && polys[j].alive && polys[j].excavation == p.excavation {
-                    let l = dist(positions[u], positions[v]);
-                    let s = shared.entry(j).or_insert((0.0, 0.0, p.edges[e]));
-                    s.0 += l;
-                    if l > s.1 {
-                        s.1 = l;
-                        s.2 = p.edges[e];
-                    }
+            if let Some(&j) = owner.get(&(v, u))
+                && j != i
+                && polys[j].alive
+                && polys[j].excavation == p.excavation
+            {
+                let l = dist(positions[u], positions[v]);
+                let s = shared.entry(j).or_insert((0.0, 0.0, p.edges[e]));
+                s.0 += l;
+                if l > s.1 {
+                    s.1 = l;
+                    s.2 = p.edges[e];
                 }
             }
         }

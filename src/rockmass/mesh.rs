@@ -61,7 +61,7 @@ pub fn mesh_block(block: &Block, mesh_size: f64) -> Result<TriMesh, CutError> {
         })
         .sum();
     let expected = 4.0 * block.area / max_area + 4.0 * perimeter / mesh_size + 10.0 * n as f64;
-    if !(expected <= MAX_NODES) {
+    if expected.is_nan() || expected > MAX_NODES {
         return Err(CutError::Mesh(format!(
             "mesh_size {mesh_size} m would make about {expected:.3e} nodes in a block of area {} m2, above {MAX_NODES:e}",
             block.area

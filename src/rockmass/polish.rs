@@ -334,7 +334,7 @@ fn block(
             ),
         });
     }
-    if !(area > 0.0) {
+    if area.is_nan() || area <= 0.0 {
         return Err(CutError::Degenerate { at: o, message: "a block has no positive area".into() });
     }
     Ok(Block { vertices, edges, area, centroid, excavation })

@@ -187,7 +187,7 @@ impl Work {
             let g = q[i] + row.iter().map(|(j, v)| v * z[j]).sum::<f64>();
             self.g[i] = g;
             let (l, h) = (self.lo[i], self.hi[i]);
-            if !(l <= h) {
+            if l.is_nan() || h.is_nan() || l > h {
                 return Value { res: f64::INFINITY, merit: f64::INFINITY };
             }
             let d = self.d[i];

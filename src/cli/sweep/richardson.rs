@@ -54,7 +54,17 @@ pub fn extrapolate(quantity: &str, h: [f64; 3], v: [f64; 3]) -> Extrapolation {
     };
     let (r21, r32) = (h[1] / h[0], h[2] / h[1]);
     let (e21, e32) = (v[1] - v[0], v[2] - v[1]);
-    if !(r21 > 1.0 && r32 > 1.0) || e21 == 0.0 || e32 == 0.0 || !(e32 / e21 > 0.0) {
+    let ratio = e32 / e21;
+    // NaN in any of them fails the check too
+    if r21.is_nan()
+        || r32.is_nan()
+        || r21 <= 1.0
+        || r32 <= 1.0
+        || e21 == 0.0
+        || e32 == 0.0
+        || ratio.is_nan()
+        || ratio <= 0.0
+    {
         return out;
     }
     let ratio = (e32 / e21).abs().ln();
