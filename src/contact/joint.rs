@@ -28,8 +28,7 @@ pub fn edge_edge(x: &Polygon, y: &Polygon, tol: &Tolerances, out: &mut Vec<Conta
 /// §4.6). With one, every joint that has a merged end (its "face") gives each of its n end
 /// contacts (1 or 2) L/n of its length L; such a contact carries the sum of its shares over the
 /// joints it ends as its own capacity length, without a partner (`joint` None). The lengths
-/// of a face's contacts then add up to the joints' lengths, where the dedupe used to drop the
-/// shares of the merged ends. At a seam (`seam`, math note §5.1) the end contacts of the two
+/// of a face's contacts then add up to the joints' lengths, the merged ends' shares included. At a seam (`seam`, math note §5.1) the end contacts of the two
 /// edge pieces do not coincide: each keeps its own joint and law.
 fn tributary(
     found: Vec<ContactGeom>,

@@ -389,7 +389,7 @@ mod tests {
         t
     }
 
-    /// An LCP beyond the dense basis's old limit of 1,000 variables (math note §4.12, "A sparse
+    /// An LCP beyond 1,000 variables, where the basis is sparse (math note §4.12, "A sparse
     /// basis"): 1,500 normal contacts in a chain, W tridiagonal (diagonal 3 + i mod 4, off
     /// diagonal −1: strictly diagonally dominant, so symmetric positive definite, a P-matrix,
     /// and the LCP has exactly one solution, Cottle, Pang & Stone, Thm 3.3.7). q is made from
