@@ -52,11 +52,13 @@ fn blocks(extra: &str) -> Vec<(String, f64)> {
 
 /// The meshed block (the last body) on a fixed rigid floor (body 0), gravity g = 10 tilted by
 /// α = 30° (the slope's frame), the floor's interface `law`.
-fn slope(block: &str, law: &str) -> String {
+/// The scenes' common head: 300 steps of 1 ms under g = 10 m/s² tilted by 30° (the slope
+/// along x), tolerance 1e-12, elastic rock of 2,500 kg/m³; `interfaces` follows it.
+fn head(name: &str, interfaces: &str) -> String {
     let (s, c) = 30f64.to_radians().sin_cos();
     format!(
         r#"[scene]
-name = "meshed block on a cohesive slope"
+name = "{name}"
 [time]
 step = 0.001
 steps = 300
@@ -70,17 +72,23 @@ name = "rock"
 density = 2500.0
 young = 1.0e9
 poisson = 0.25
-[[interface]]
-{law}
-[[body]]
+{interfaces}
+"#,
+        10.0 * s,
+        -10.0 * c
+    )
+}
+
+fn slope(block: &str, law: &str) -> String {
+    format!(
+        r#"{}[[body]]
 name = "floor"
 shape = "polygon"
 vertices = [[-1.0, -0.5], [8.0, -0.5], [8.0, 0.0], [-1.0, 0.0]]
 material = "rock"
 fixed = true
 {block}"#,
-        10.0 * s,
-        -10.0 * c
+        head("meshed block on a cohesive slope", &format!("[[interface]]\n{law}"))
     )
 }
 
@@ -248,28 +256,9 @@ fn a_cemented_meshed_face_breaks_at_its_tensile_strength() {
 #[test]
 fn a_meshed_cut_block_slides_on_its_joint_sets_law() {
     let (s, c) = 30f64.to_radians().sin_cos();
+    let interfaces = "[[interface]]\nfriction = 0.7\n[[interface]]\nname = \"bedding\"\nfriction = 0.2";
     let text = format!(
-        r#"[scene]
-name = "meshed cut block on a tagged joint"
-[time]
-step = 0.001
-steps = 300
-[physics]
-gravity = [{:?}, {:?}]
-plane = "stress"
-[solver]
-tolerance = 1e-12
-[[material]]
-name = "rock"
-density = 2500.0
-young = 1.0e9
-poisson = 0.25
-[[interface]]
-friction = 0.7
-[[interface]]
-name = "bedding"
-friction = 0.2
-[domain]
+        r#"{}[domain]
 vertices = [[0.0, -0.8], [2.0, -0.8], [2.0, 0.8], [0.0, 0.8]]
 material = "rock"
 model = "mesh"
@@ -281,8 +270,7 @@ spacing = 10.0
 origin = [0.0, 0.0]
 interface = "bedding"
 "#,
-        10.0 * s,
-        -10.0 * c
+        head("meshed cut block on a tagged joint", interfaces)
     );
     let mut w = world(&text);
     let upper = w.bodies.iter().position(|b| !b.fixed).expect("a free block");
