@@ -3,12 +3,12 @@
 //!
 //! `DiskPile::benchmark(10, 10)` with deformable disks (E = 1e8 Pa, ν = 0.3, radius 0.5 m,
 //! density 1, μ = 0.6, dt = 1/60 s; Π = ρ r² / (E dt²) = 9e-6), tolerance 1e-6, the bench's
-//! budget of 20,000 iterations. Until 2026-12-07 every method stopped at a near-solution on
-//! its first steps: 3.0e-6, 4.5e-6 and 2.2e-6 on steps 1-3 with the scene's budget of
-//! 200,000 (45-49 s each), and 4.4e-6 to 9.7e-6 with the bench's. Lemke's method loops there
-//! in floating point at z0 of 2e-7 to 2e-6, and the basis it stops at is an exact solution of
-//! the LCP with q + z0 d: measured by the solver (§4.3), it or Lemke's exact answer meets 1e-6
-//! on those steps (§4.12, "The basis a path stops at").
+//! budget of 20,000 iterations. The iterative methods (MPRGP, NSGS, PC) stop on its first
+//! steps at near-solutions 2e-6 to 1e-5 above zero residual, over the tolerance, with either
+//! budget (math note §4.8, "Piles of stiff deformable disks"). Lemke's method loops there in
+//! floating point at z0 of 2e-7 to 2e-6, and the basis it stops at is an exact solution of the
+//! LCP with q + z0 d: measured by the solver (§4.3), it or Lemke's exact answer meets 1e-6 on
+//! those steps (§4.12, "The basis a path stops at"). This test fails if the chain loses that.
 //!
 //! Convergence is judged by the solver's own residual against the scene's tolerance, so no
 //! tolerance is added to it. The pile rests from the first step (a locked packing: kinetic
@@ -68,10 +68,10 @@ fn slow_a_deformable_pile_converges_and_carries_its_weight() {
 }
 
 /// The same pile with 20 × 20 disks (1,161 contacts: 4,644 LCP variables, above Lemke's limit
-/// of 4,000, so the chain's last resort is the cell program of §4.13). Without it its first four
-/// steps ended at 5.6e-6, 1.35e-5, 5.3e-6 and 3.8e-6; with it all four converge (9.3e-7, 6.8e-7,
-/// 3.5e-7, 2.1e-7, measured 2026-12-07). This pile settles less: its kinetic energy is 5.2e-6 J
-/// on step 1, so the bound is K < 1e-5 J. The weight bound then follows as in the module header:
+/// of 4,000, so the chain's last resort is the cell program of §4.13). A chain without the cell
+/// program ends its first four steps at residuals of 3.8e-6 to 1.35e-5, over the tolerance; with
+/// it all four converge. This pile settles less: its kinetic energy is 5.2e-6 J on step 1, so the
+/// bound is K < 1e-5 J. The weight bound then follows as in the module header:
 /// 400 disks weigh 3,082 N, M = 314 kg, and √(2 M K) = 0.079 kg m/s allows a momentum change of
 /// at most 9.5 N a step, 3.1e-3 of the weight; hence 5e-3 (measured: 9.4e-4 at most, on step 1).
 /// The cell program's sweeps and interior-point iterations draw from the step's one budget

@@ -172,8 +172,9 @@ pub fn detect_in(
 }
 
 /// From this many candidate pairs on, [`detect_in_order`] runs the narrow phase in two halves
-/// of the pairs, one per core (about 30,000 pairs on the 10,000-disk pile, 3,400 on the
-/// 1,000-disk pile, which stays on one).
+/// of the pairs, one per core; below it the join costs more than the half it saves (math note
+/// §3.3, "Both cores"; `benches/step.rs`, `rigid_disks_1000` on one core, `rigid_disks_10000`
+/// on two).
 const HALVES_FROM: usize = 8_000;
 
 /// [`detect_in_order`]'s contacts: those of the first half of the pairs, then those of the

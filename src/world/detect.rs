@@ -13,7 +13,7 @@ use crate::model::Interface;
 /// first when they had to be sorted. Immutable once detected; the solve stages linearize them
 /// (see `rows.rs`). Contact k's law is [`Inputs::laws`]' entry k, and what it remembers from the
 /// last step went into the warm start and its [`Brief`]. Not copied into one vector of their
-/// own: on the 10,000-disk pile that copy wrote 120 bytes for each of 30,000 contacts a step.
+/// own, which would write every contact's geometry once more a step (`benches/step.rs`).
 pub(super) struct Geoms([Vec<ContactGeom>; 2]);
 
 impl Geoms {

@@ -173,8 +173,8 @@ impl Grid {
         self.cells.push(values);
     }
 
-    /// Empties the grid, keeping its storage for the next step's (the 10,000-disk pile's grid
-    /// is 28 MB: new storage each step costs its page faults).
+    /// Empties the grid, keeping its storage for the next step's: a large pile's grid is tens of
+    /// megabytes, whose fresh pages each step would cost (`benches/output.rs`, `vtk_step`).
     pub fn clear(&mut self) {
         self.points.clear();
         self.connectivity.clear();
