@@ -234,7 +234,7 @@ fn long_run(args: &[String]) {
 /// collapses' tolerance-1e-10 reference runs.
 fn moving_args(args: &[String]) {
     let mut keys: Vec<String> = Vec::new();
-    let mut configs = vec![moving::Config::DEFAULT, moving::Config { method: Method::Newton, stops: false }];
+    let mut configs = vec![moving::Config::default_config(), moving::Config::parse("newton")];
     let mut with_reference = true;
     for a in args {
         if a == "quick" {
@@ -242,14 +242,7 @@ fn moving_args(args: &[String]) {
         } else if a == "noref" {
             with_reference = false;
         } else if let Some(list) = a.strip_prefix("with=") {
-            configs = list
-                .split(',')
-                .map(|c| {
-                    let (name, stops) = c.strip_suffix("+stops").map_or((c, false), |n| (n, true));
-                    let method = Method::parse(name).unwrap_or_else(|| panic!("unknown method {name}"));
-                    moving::Config { method, stops }
-                })
-                .collect();
+            configs = list.split(',').map(moving::Config::parse).collect();
         } else {
             keys.push(a.clone());
         }
@@ -270,7 +263,7 @@ fn methods() {
     );
     println!("|---|---|---|---|---|---|---|");
     for tol in [1e-6, 1e-8] {
-        for method in [Method::Auto, Method::Newton, Method::Mprgp, Method::Nsgs] {
+        for method in [Method::Newton, Method::Mprgp, Method::Nsgs] {
             let (ms, it, pairs, sink) = pbdda_run(&pile, method, tol, STEPS);
             println!(
                 "| {} | {tol:e} | {:.2} | {:.2} | {it:.0} | {:.2e} | {sink:.2e} |",

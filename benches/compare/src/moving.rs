@@ -11,7 +11,7 @@
 
 use crate::scenes::{self, Measure, Scene, Shape2};
 use pbdda::geometry::Vec2;
-use pbdda::vi::Method;
+use pbdda::vi::{Chain, Method};
 use pbdda::world::{Event, Warning, World};
 use rapier2d_f64::prelude::*;
 use std::time::Instant;
@@ -20,13 +20,29 @@ use std::time::Instant;
 /// §10.15 (off by default, `Settings::friction_stops`).
 #[derive(Clone, Copy)]
 pub struct Config {
-    pub method: Method,
+    pub method: Chain,
     pub stops: bool,
 }
 
 impl Config {
     /// The defaults a user gets: `auto`, friction stops off.
-    pub const DEFAULT: Config = Config { method: Method::Auto, stops: false };
+    pub fn default_config() -> Config {
+        Config { method: Chain::default(), stops: false }
+    }
+
+    /// A chain by scene name (`auto`, `newton`, ...) or methods joined by `/`
+    /// (`mprgp/newton/nsgs`), with `+stops` for friction stops.
+    pub fn parse(c: &str) -> Config {
+        let (name, stops) = c.strip_suffix("+stops").map_or((c, false), |n| (n, true));
+        let method = Chain::parse(name).unwrap_or_else(|| {
+            let list: Vec<Method> = name
+                .split('/')
+                .map(|m| Method::parse(m).unwrap_or_else(|| panic!("unknown method {m}")))
+                .collect();
+            Chain::new(&list).unwrap_or_else(|| panic!("bad chain {name}"))
+        });
+        Config { method, stops }
+    }
 
     /// A label for the table: the method, and friction stops when on.
     pub fn label(&self, tol: f64) -> String {
@@ -60,6 +76,11 @@ pub struct Run {
     pub measure: f64,
 }
 
+/// The table's tolerance: `PBDDA_TOL` when set, else the default 1e-8.
+fn tolerance() -> f64 {
+    std::env::var("PBDDA_TOL").ok().and_then(|s| s.parse().ok()).unwrap_or(1e-8)
+}
+
 /// pbdda on `scene` at tolerance `tol` with the method and friction-stop rule of `cfg`.
 pub fn pbdda(scene: &Scene, tol: f64, cfg: Config) -> Run {
     let mut model = scene.model(tol);
@@ -79,6 +100,8 @@ pub fn pbdda(scene: &Scene, tol: f64, cfg: Config) -> Run {
         dropped: 0,
         measure: 0.0,
     };
+    // PBDDA_TRACE=1: one line a step on stderr (iterations, method, hand-overs, time)
+    let trace = std::env::var_os("PBDDA_TRACE").is_some();
     let (t, cpu) = (Instant::now(), cpu_seconds());
     for _ in 0..scene.steps {
         let ts = Instant::now();
@@ -88,6 +111,20 @@ pub fn pbdda(scene: &Scene, tol: f64, cfg: Config) -> Run {
         run.unconverged += usize::from(!rec.converged);
         run.repeated += rec.events.iter().filter(|e| matches!(e, Event::StepSplit { .. })).count();
         run.dropped += rec.warnings.iter().filter(|w| matches!(w, Warning::StopsDropped { .. })).count();
+        if trace {
+            let over: Vec<String> =
+                rec.handovers.iter().map(|h| format!("{}>{}:{}", h.from, h.to, h.why)).collect();
+            let method = rec.method.map_or("-", |m| m.name());
+            let ms = 1e3 * run.step_seconds.last().copied().unwrap_or(0.0);
+            eprintln!(
+                "step {} it {} outer {} {method} conv {} {ms:.1} ms {}",
+                run.iterations.len(),
+                rec.inner_iterations,
+                rec.outer_iterations,
+                rec.converged,
+                over.join(" ")
+            );
+        }
     }
     run.seconds = t.elapsed().as_secs_f64();
     run.cpu = cpu_seconds() - cpu;
@@ -199,7 +236,7 @@ pub fn scene_of(key: &str) -> Option<Scene> {
 fn reference(scene: &Scene) -> (f64, &'static str) {
     match scene.measure {
         Measure::Travel(_) => (scenes::slide_travel(scene.dt * scene.steps as f64), "closed form"),
-        Measure::RunOut(_) => (pbdda(scene, 1e-10, Config::DEFAULT).measure, "pbdda auto 1e-10"),
+        Measure::RunOut(_) => (pbdda(scene, 1e-10, Config::default_config()).measure, "pbdda auto 1e-10"),
     }
 }
 
@@ -229,12 +266,12 @@ pub fn table(keys: &[String], configs: &[Config], with_reference: bool) {
         let simulated = scene.dt * scene.steps as f64;
         let (rapier_seconds, rapier_measure, rapier_step, rapier_cpu) = rapier(&scene);
         for cfg in configs {
-            let r = pbdda(&scene, 1e-8, *cfg);
+            let r = pbdda(&scene, tolerance(), *cfg);
             let (it_median, it_max) = spread(&r.iterations);
             println!(
                 "| {} | {} | {simulated:.3} | {:.2} | {:.2} | {:.2} | {:.2} | {:.3} | {it_median}, {it_max} | {} | {} | {} | {:.6e} | {:.2e} | {what} |",
                 scene.name,
-                cfg.label(1e-8),
+                cfg.label(tolerance()),
                 r.seconds,
                 r.seconds / rapier_seconds,
                 r.cpu,
@@ -268,14 +305,14 @@ pub fn trade(dts: &[f64]) {
     for &dt in dts {
         let steps = (simulated / dt).round() as usize;
         for scene in [scenes::collapse(200, 2.0, dt, steps), scenes::slide(20, 3, dt, steps)] {
-            let tight = pbdda(&scene, 1e-10, Config::DEFAULT).measure;
+            let tight = pbdda(&scene, 1e-10, Config::default_config()).measure;
             let closed = match scene.measure {
                 Measure::Travel(_) => format!("{:.2e}", tight - scenes::slide_travel(simulated)),
                 Measure::RunOut(_) => String::new(),
             };
             println!("| {} | {dt} | 1e-10 | | | | {tight:.6e} | 0 | {closed} |", scene.name);
             for tol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9] {
-                let r = pbdda(&scene, tol, Config::DEFAULT);
+                let r = pbdda(&scene, tol, Config::default_config());
                 let (median, max) = spread(&r.iterations);
                 let closed = match scene.measure {
                     Measure::Travel(_) => format!("{:.2e}", r.measure - scenes::slide_travel(simulated)),
