@@ -12,3 +12,11 @@ mod factor;
 pub(crate) mod inverse;
 
 pub use factor::{SparseError, SparseFactor};
+
+/// W's one matrix type (the Delassus operator W = B K̃⁻¹ Bᵀ when it is stored explicitly,
+/// `crate::delassus`): compressed sparse rows of `f64` with `usize` indices, both triangles,
+/// sprs's `CsMat`. The VI solvers read W through [`CsrView`]; factorizations are faer's
+/// ([`SparseFactor`] here, the LU factors of `crate::vi`'s Newton and Lemke methods).
+pub type Csr = sprs::CsMat<f64>;
+/// A borrowed [`Csr`].
+pub type CsrView<'a> = sprs::CsMatView<'a, f64>;
