@@ -16,6 +16,11 @@
 //! `contact`; `body`; `dofs`, `jacobian`, `connector`; `cluster`; `delassus`; `world`;
 //! `checkpoint`, `output`, `generate`, `rockmass`, `ntdda`; `scene`; `cli`, `api`.
 //!
+//! Threads: one pool, micropool's global pool (`micropool::join`: the VI's sweeps, the body
+//! form's product, narrow-phase detection, a step's CSV rows). rayon is not used: its `join` from
+//! the stepping thread parks the caller, which costs more than a sweep's half on two cores
+//! (`src/vi/par.rs`, math note §3.3). Factorizations run sequentially.
+//!
 //! ```no_run
 //! let model = pbdda::scene::load(std::path::Path::new("examples/7_1_disk_heap.toml"))?;
 //! let mut world = pbdda::world::World::new(model);
