@@ -23,14 +23,13 @@ use crate::dofs::DofMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 mod dense;
-mod inverse;
 mod snapshot;
-mod sparse;
+/// The sparse factor is the leaf module [`crate::sparse`]'s; re-exported under its old path.
+pub use crate::sparse::{SparseError, SparseFactor};
 pub use dense::DENSE_MAX;
 pub(crate) use dense::block_times;
 use dense::{Dense, body_solve};
 pub use snapshot::FlexState;
-pub use sparse::{SparseError, SparseFactor};
 use std::sync::Arc;
 
 /// The next factor's stamp ([`Flexibility::stamps`]).

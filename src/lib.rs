@@ -10,6 +10,17 @@
 //!               -> VI solves (vi) -> update (body) -> StepRecord -> output::csv
 //! ```
 //!
+//! Modules from the bottom up (each uses only modules before it; `tests/module_graph.rs`
+//! checks that there is no import cycle): `geometry`, `sparse` (faer's sparse Cholesky), `error`;
+//! `vi` (the variational-inequality solvers, no bodies); `mesh`; `model`; `traction`,
+//! `contact`; `body`; `dofs`, `jacobian`, `connector`; `cluster`; `delassus`; `world`;
+//! `checkpoint`, `output`, `generate`, `rockmass`, `ntdda`; `scene`; `cli`, `api`.
+//!
+//! Threads: one pool, micropool's global pool (`micropool::join`: the VI's sweeps, the body
+//! form's product, narrow-phase detection, a step's CSV rows). rayon is not used: its `join` from
+//! the stepping thread parks the caller, which costs more than a sweep's half on two cores
+//! (`src/vi/par.rs`, math note §3.3). Factorizations run sequentially.
+//!
 //! ```no_run
 //! let model = pbdda::scene::load(std::path::Path::new("examples/7_1_disk_heap.toml"))?;
 //! let mut world = pbdda::world::World::new(model);
@@ -37,6 +48,7 @@ pub mod ntdda;
 pub mod output;
 pub mod rockmass;
 pub mod scene;
+pub mod sparse;
 pub mod traction;
 pub mod vi;
 pub mod world;

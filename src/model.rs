@@ -18,7 +18,7 @@ pub struct Model {
     pub bodies: Vec<BodySpec>,
     pub loads: Vec<Load>,
     /// Distributed loads on boundaries (`[[traction]]`, math note §2.5).
-    pub tractions: Vec<crate::traction::Traction>,
+    pub tractions: Vec<Traction>,
     /// Bolts, springs and beams joining pairs of bodies (math note §6).
     pub connectors: Vec<ConnectorSpec>,
     pub monitors: Vec<Monitor>,
@@ -230,19 +230,8 @@ pub enum Shape {
     Mesh(Box<MeshShape>),
 }
 
-/// A mesh body's geometry as the scene gives it: the selected surface, scaled and offset, and the
-/// nodes without DOFs (`fixed_nodes`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MeshShape {
-    /// The selected physical surface in its initial position (scene keys `physical`, `scale`,
-    /// `offset` applied).
-    pub mesh: crate::mesh::Mesh,
-    /// Sorted indices into `mesh.nodes` of the nodes of the `fixed_nodes` groups.
-    pub fixed_nodes: Vec<usize>,
-    /// Rollers: `(node, component)` (0 = x, 1 = y) of the `fixed_x_nodes` and `fixed_y_nodes`
-    /// groups, sorted, that component without a DOF.
-    pub rollers: Vec<(usize, usize)>,
-}
+/// A mesh body's geometry (defined in [`crate::mesh`], which owns the mesh types).
+pub use crate::mesh::MeshShape;
 
 impl Shape {
     /// Whether `p` lies in the shape, the boundary included (within 1e-9 of the shape's size, so
@@ -343,6 +332,40 @@ impl Load {
     pub fn factor(&self, t: f64) -> f64 {
         history_factor(self.history.as_deref(), t)
     }
+}
+
+// Boundary tractions (`[[traction]]`): the data; the loads they give are in `crate::traction`
+// (math note §2.5).
+
+/// How the traction vector follows from the boundary's outward normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TractionLaw {
+    /// Normal pressure [Pa] (positive pushes into the body) and shear [Pa] along the boundary,
+    /// positive in the direction that keeps the body on the left (counter-clockwise around the
+    /// outline).
+    Pressure { pressure: f64, shear: f64 },
+    /// A stress (σx, σy, τxy) [Pa], tension positive: t = σ n.
+    Stress([f64; 3]),
+}
+
+/// A loaded piece of one boundary edge: `nodes` are the edge's ends `a → b` (polygon vertex or
+/// mesh node indices, the body on the left), loaded from parameter `s[0]` to `s[1]` (0 at a,
+/// 1 at b).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Piece {
+    pub nodes: [usize; 2],
+    pub s: [f64; 2],
+}
+
+/// A traction on one body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Traction {
+    /// Index into `Model::bodies`.
+    pub body: usize,
+    pub pieces: Vec<Piece>,
+    pub law: TractionLaw,
+    /// (time, factor) pairs, as a point load's; `None`: factor 1.
+    pub history: Option<Vec<(f64, f64)>>,
 }
 
 /// What a connector is, with its constants (paper §5; math note §6).

@@ -15,17 +15,8 @@
 use crate::geometry::Vec2;
 use crate::mesh::loops::boundary_loops;
 use crate::model::{BodySpec, Shape};
-
-/// How the traction vector follows from the boundary's outward normal.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum TractionLaw {
-    /// Normal pressure [Pa] (positive pushes into the body) and shear [Pa] along the boundary,
-    /// positive in the direction that keeps the body on the left (counter-clockwise around the
-    /// outline).
-    Pressure { pressure: f64, shear: f64 },
-    /// A stress (σx, σy, τxy) [Pa], tension positive: t = σ n.
-    Stress([f64; 3]),
-}
+/// The traction types are model data ([`crate::model`]); their physics is here.
+pub use crate::model::{Piece, Traction, TractionLaw};
 
 impl TractionLaw {
     /// The traction [Pa] on a boundary with unit tangent `tau` (the body on its left).
@@ -36,26 +27,6 @@ impl TractionLaw {
             TractionLaw::Stress([sx, sy, txy]) => Vec2::new(sx * n.x + txy * n.y, txy * n.x + sy * n.y),
         }
     }
-}
-
-/// A loaded piece of one boundary edge: `nodes` are the edge's ends `a → b` (polygon vertex or
-/// mesh node indices, the body on the left), loaded from parameter `s[0]` to `s[1]` (0 at a,
-/// 1 at b).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Piece {
-    pub nodes: [usize; 2],
-    pub s: [f64; 2],
-}
-
-/// A traction on one body.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Traction {
-    /// Index into `Model::bodies`.
-    pub body: usize,
-    pub pieces: Vec<Piece>,
-    pub law: TractionLaw,
-    /// (time, factor) pairs, as a point load's; `None`: factor 1.
-    pub history: Option<Vec<(f64, f64)>>,
 }
 
 impl Traction {

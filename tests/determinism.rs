@@ -6,7 +6,7 @@
 //! as `f64::to_bits`, in body and contact order; FNV-1a 64) is identical for two runs in one
 //! process on one thread and for a run on two (the big scene: one run on each). "n threads": the
 //! stepping thread with n − 1 micropool workers (the VI's sweeps and the body form's product,
-//! `src/vi/par.rs`) inside a rayon pool of n threads (the sparse factors' column batches).
+//! `src/vi/par.rs`; the crate's only thread pool).
 //! The tolerance is zero by construction:
 //! the VI reduces its parallel partial sums in block order, so serial and parallel sweeps give
 //! the same bits (src/vi/par.rs), and nothing else may depend on scheduling or on addresses (hash
@@ -119,18 +119,15 @@ fn big_pile() -> Model {
 /// Runs `steps` steps on `threads` threads (see the module docs); returns the state hash and
 /// the last record.
 fn run(model: &Model, steps: usize, threads: usize) -> (u64, StepRecord) {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap_or_else(|e| panic!("{e}"));
     let workers = micropool::ThreadPoolBuilder::default().num_threads(threads - 1).build();
-    pool.install(|| {
-        workers.install(|| {
-            let mut world = World::new(model.clone());
-            let mut last = None;
-            for _ in 0..steps {
-                last = Some(world.step().unwrap_or_else(|e| panic!("{e}")));
-            }
-            let last = last.unwrap_or_else(|| panic!("no step"));
-            (state_hash(&world, &last), last)
-        })
+    workers.install(|| {
+        let mut world = World::new(model.clone());
+        let mut last = None;
+        for _ in 0..steps {
+            last = Some(world.step().unwrap_or_else(|e| panic!("{e}")));
+        }
+        let last = last.unwrap_or_else(|| panic!("no step"));
+        (state_hash(&world, &last), last)
     })
 }
 

@@ -21,7 +21,7 @@ const ROOT: usize = usize::MAX;
 /// The column groups of a Cholesky factor and their elimination tree: supernodes, or single
 /// columns of a simplicial factor.
 #[derive(Debug)]
-pub(super) struct Tree {
+pub(crate) struct Tree {
     /// Position of each original DOF in the factor's ordering.
     pos: Vec<usize>,
     /// Group of each factor column.
@@ -97,7 +97,7 @@ struct Panel {
 /// The symmetric block `(K⁻¹)_SS` over a growing set S of DOFs, with the pieces of every
 /// member's `y` kept per group so that DOFs joining S need only their own forward solves.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
-pub(super) struct InverseCache {
+pub(crate) struct InverseCache {
     /// DOF → its index in S (the order in which DOFs joined).
     pub(super) slot: HashMap<usize, usize>,
     /// `lower[a][b] = (K⁻¹)_{S_a S_b}` for `b ≤ a`: every entry stored once, so the block read

@@ -7,10 +7,10 @@
 //! order in which DOFs joined it); the symbolic analysis, a function of the pattern, is done
 //! again on loading.
 
-use super::inverse::InverseCache;
-use super::sparse::{SparseError, SparseFactor};
 use super::{Factor, Flexibility, Formed, STAMPS};
 use crate::body::BodyMatrix;
+use crate::sparse::inverse::InverseCache;
+use crate::sparse::{SparseError, SparseFactor};
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::Ordering;
 use std::sync::{Arc, Mutex};

@@ -10,7 +10,7 @@ use faer::{Conj, MatMut, Side};
 use std::sync::{Arc, Mutex};
 
 /// Size, pattern and numeric values of a sparse factor ([`SparseFactor::parts`]).
-pub(super) type SparseParts<'a> = (usize, &'a [(usize, usize)], Option<&'a Vec<f64>>);
+pub(crate) type SparseParts<'a> = (usize, &'a [(usize, usize)], Option<&'a Vec<f64>>);
 
 /// Columns solved at once by [`SparseFactor::inverse_block_by_solves`] (16 columns of 100k
 /// DOF take 13 MB).
@@ -125,18 +125,18 @@ impl SparseFactor {
     }
 
     /// Size, pattern and numeric values (a checkpoint's state, `snapshot.rs`).
-    pub(super) fn parts(&self) -> SparseParts<'_> {
+    pub(crate) fn parts(&self) -> SparseParts<'_> {
         (self.n, &self.pattern, self.numeric.as_ref())
     }
 
     /// A copy of the cached block of K⁻¹ (a checkpoint's state, `snapshot.rs`).
-    pub(super) fn inverse_cache(&self) -> InverseCache {
+    pub(crate) fn inverse_cache(&self) -> InverseCache {
         self.inverse.lock().map(|c| c.clone()).unwrap_or_else(|e| e.into_inner().clone())
     }
 
     /// The symbolic analysis of an `n × n` lower-triangle `pattern` (sorted, deduplicated), as
     /// [`Self::factorize`] does it for a matrix of that pattern.
-    pub(super) fn analyse(
+    pub(crate) fn analyse(
         n: usize,
         pattern: &[(usize, usize)],
     ) -> Result<Arc<(SymbolicCholesky<usize>, Tree)>, SparseError> {
@@ -152,7 +152,7 @@ impl SparseFactor {
     }
 
     /// A factor from its parts (`snapshot.rs`).
-    pub(super) fn from_parts(
+    pub(crate) fn from_parts(
         n: usize,
         pattern: Vec<(usize, usize)>,
         symbolic: Option<Arc<(SymbolicCholesky<usize>, Tree)>>,

@@ -22,10 +22,10 @@
 use crate::cluster::{ClusterSolver, Flexibility};
 use crate::dofs::DofMap;
 use crate::jacobian::{Jacobian, Segment};
+use crate::sparse::{Csr, CsrView};
 use crate::vi::Operator;
 use blocks::NONE;
 use bodies::BodyPart;
-use sprs::CsMat;
 use std::sync::Arc;
 
 mod blocks;
@@ -103,7 +103,7 @@ pub const EXPLICIT_LIMIT: usize = 20_000_000;
 
 /// W = B K̃⁻¹ Bᵀ, sparse and symmetric (both triangles stored), every cluster explicit (on a
 /// copy of B, which the operator keeps).
-pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> {
+pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> Csr {
     ContactOperator::with_scratch(jac.clone(), flex, map, usize::MAX, false, &mut Scratch::default()).explicit
 }
 
@@ -112,7 +112,7 @@ pub fn assemble(jac: &Jacobian, flex: &Flexibility, map: &DofMap) -> CsMat<f64> 
 /// owns B.
 pub struct ContactOperator {
     jac: Jacobian,
-    pub explicit: CsMat<f64>,
+    pub explicit: Csr,
     /// The rows of `explicit` with entries, when they are fewer than half of its rows (a few
     /// bolted or meshed clusters in a pile of single bodies): its products walk those only.
     explicit_rows: Option<Vec<usize>>,
@@ -165,7 +165,7 @@ impl ContactOperator {
             // a scene of single bodies: nothing to assemble, so the assembly's passes over every
             // segment and row (layout, places, CSR rows) are skipped
             let bodies = BodyPart::new(&jac, blocks, &mut diagonal);
-            let explicit = CsMat::zero((jac.rows, jac.rows));
+            let explicit = Csr::zero((jac.rows, jac.rows));
             return ContactOperator {
                 jac,
                 explicit,
@@ -265,7 +265,7 @@ impl Operator for ContactOperator {
         out.copy_from_slice(&self.diagonal);
     }
 
-    fn as_csr(&self) -> Option<sprs::CsMatView<'_, f64>> {
+    fn as_csr(&self) -> Option<CsrView<'_>> {
         (self.factored.is_empty() && self.bodies.is_empty()).then(|| self.explicit.view())
     }
 
@@ -498,7 +498,7 @@ impl Scratch {
     /// W's explicit part: row r gets, for every place (c, r), B_r|c · K̃_c⁻¹ B_sᵀ|c for every
     /// row s touching c; entries of a column reached through two clusters are summed, in
     /// cluster order.
-    fn csr(&mut self, jac: &Jacobian) -> CsMat<f64> {
+    fn csr(&mut self, jac: &Jacobian) -> Csr {
         let starts = &mut self.row_place_start;
         starts.clear();
         starts.resize(jac.rows + 1, 0);
@@ -552,6 +552,6 @@ impl Scratch {
             }
             indptr.push(indices.len());
         }
-        CsMat::new((jac.rows, jac.rows), indptr, indices, data)
+        Csr::new((jac.rows, jac.rows), indptr, indices, data)
     }
 }

@@ -6,10 +6,10 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector3};
 
+use super::MeshShape;
 use super::loops::contact_loops;
 use super::tri3::{Pattern, Tri3, Vec6};
 use crate::geometry::{Vec2, cross};
-use crate::model::MeshShape;
 
 /// Area coordinates closer than this count as a tie in [`MeshBody::locate`].
 const LOCATE_TIE: f64 = 1e-12;

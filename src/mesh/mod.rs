@@ -21,6 +21,20 @@ use std::path::Path;
 use crate::geometry::Vec2;
 
 /// A 2D first-order triangle mesh read from a gmsh file.
+/// A mesh body's geometry as the scene gives it: the selected surface, scaled and offset, and the
+/// nodes without DOFs (`fixed_nodes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MeshShape {
+    /// The selected physical surface in its initial position (scene keys `physical`, `scale`,
+    /// `offset` applied).
+    pub mesh: Mesh,
+    /// Sorted indices into `mesh.nodes` of the nodes of the `fixed_nodes` groups.
+    pub fixed_nodes: Vec<usize>,
+    /// Rollers: `(node, component)` (0 = x, 1 = y) of the `fixed_x_nodes` and `fixed_y_nodes`
+    /// groups, sorted, that component without a DOF.
+    pub rollers: Vec<(usize, usize)>,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Mesh {
     /// The file it was read from (names it in errors).

@@ -24,9 +24,10 @@
 
 use super::chain::Best;
 use super::{BoundRule, Operator, Options, Problem, Stats, lemke, nsgs};
+use crate::sparse::CsrView;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettingsBuilder, DefaultSolver, IPSolver, NonnegativeConeT};
-use sprs::{CsMatView, TriMat};
+use sprs::TriMat;
 
 /// Largest problem taken (rows of W): a program of the 1,000 deformable disks' 5,872 rows takes
 /// about 10 s, one of 562 rows 0.1 s.
@@ -66,7 +67,7 @@ struct Bounded {
 /// offered to `best`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn solve(
-    w: CsMatView<'_, f64>,
+    w: CsrView<'_>,
     p: &Problem,
     rule: &dyn BoundRule,
     z: &mut [f64],
@@ -97,7 +98,7 @@ pub(super) fn solve(
 /// (each one restarts the run from its iterate); a run that converges or stops on a
 /// non-finite or growing iterate ends it.
 fn cold_start(
-    w: CsMatView<'_, f64>,
+    w: CsrView<'_>,
     p: &Problem,
     rule: &dyn BoundRule,
     opts: &Options,
@@ -124,7 +125,7 @@ fn cold_start(
 /// finite point within what `work` has left of `budget` (its interior-point iterations are
 /// added to `work`); `None` otherwise.
 pub(super) fn answer(
-    w: CsMatView<'_, f64>,
+    w: CsrView<'_>,
     p: &Problem,
     rule: &dyn BoundRule,
     start: &[f64],
@@ -165,7 +166,7 @@ fn laws(p: &Problem, rule: &dyn BoundRule, z: &[f64]) -> Option<Vec<Option<Bound
 }
 
 struct Cell<'a> {
-    w: CsMatView<'a, f64>,
+    w: CsrView<'a>,
     q: &'a [f64],
     d: &'a [f64],
     bounded: &'a [Option<Bounded>],

@@ -5,7 +5,7 @@
 //! failed chain").
 
 use super::{BoundRule, Method, Options, Problem, Report, Solver, Stats, Status, cell, lemke, newton, nsgs};
-use sprs::{CsMat, CsMatView};
+use crate::sparse::{Csr, CsrView};
 
 /// The share of what is left of the budget a method leaves to NSGS when NSGS follows it and W
 /// has entries (one in `HANDOVER_SHARE`): on the 1,000 deformable disks' cold steps MPRGP's
@@ -108,7 +108,7 @@ impl Solver {
     fn run_method(
         &mut self,
         m: Method,
-        w: Option<CsMatView<f64>>,
+        w: Option<CsrView>,
         p: &Problem,
         rule: &dyn BoundRule,
         z: &mut [f64],
@@ -150,7 +150,7 @@ impl Solver {
     /// guard hands over, its iterate offered to the chain's best.
     fn run_nsgs(
         &mut self,
-        w: CsMatView<f64>,
+        w: CsrView,
         p: &Problem,
         rule: &dyn BoundRule,
         z: &mut [f64],
@@ -174,7 +174,7 @@ impl Solver {
     /// again) a hand-over.
     fn run_newton(
         &mut self,
-        w: CsMatView<f64>,
+        w: CsrView,
         p: &Problem,
         rule: &dyn BoundRule,
         z: &mut [f64],
@@ -243,7 +243,7 @@ fn has_entries(p: &Problem) -> bool {
 
 /// W's CSR: its own storage, or `owned`, built from the operator's entries the first time a
 /// method asks (`None` inside when the operator has none).
-fn entries<'a>(p: &'a Problem, owned: &'a mut Option<Option<CsMat<f64>>>) -> Option<CsMatView<'a, f64>> {
+fn entries<'a>(p: &'a Problem, owned: &'a mut Option<Option<Csr>>) -> Option<CsrView<'a>> {
     match p.w.as_csr() {
         Some(w) => Some(w),
         None => owned.get_or_insert_with(|| from_entries(p)).as_ref().map(|w| w.view()),
@@ -252,7 +252,7 @@ fn entries<'a>(p: &'a Problem, owned: &'a mut Option<Option<CsMat<f64>>>) -> Opt
 
 /// W in CSR from the operator's entries (all rows; duplicates summed), or `None` when it has
 /// none at hand (factored clusters): for the methods that read W's rows.
-fn from_entries(p: &Problem) -> Option<CsMat<f64>> {
+fn from_entries(p: &Problem) -> Option<Csr> {
     let n = p.q.len();
     let mut entries = Vec::new();
     if !p.w.entries(&vec![true; n], &mut entries) {

@@ -12,7 +12,7 @@
 use super::Status;
 use super::pc::{Ctx, State, Vectors, clip, sweep};
 use super::scaling::Rows;
-use crate::cluster::SparseFactor;
+use crate::sparse::SparseFactor;
 
 /// The first face solve of a run after this many of its iterations (warm-started steps of a
 /// resting pile converge in 0 to 5), then one every [`EVERY`] iterations while they go at

@@ -22,7 +22,8 @@
 
 use super::chain::Best;
 use super::{BlockLaw, BoundRule, Problem};
-use sprs::{CsMat, CsMatView, TriMat};
+use crate::sparse::{Csr, CsrView};
+use sprs::TriMat;
 
 mod basis;
 use basis::Basis;
@@ -45,7 +46,7 @@ const TIE: f64 = 1e-9;
 struct Lcp {
     m: usize,
     /// M, by columns.
-    mat: CsMat<f64>,
+    mat: Csr,
     q: Vec<f64>,
     /// Per VI row: its variable(s), `(plus, minus)`; `minus = usize::MAX` for a normal row.
     vars: Vec<(usize, usize)>,
@@ -61,7 +62,7 @@ struct Lcp {
 /// chain's best answer, math note §4.7), so a near-solution that misses the tolerance still
 /// counts when the chain fails.
 pub(super) fn solve(
-    w: CsMatView<'_, f64>,
+    w: CsrView<'_>,
     p: &Problem,
     rule: &dyn BoundRule,
     z: &mut [f64],
@@ -113,7 +114,7 @@ impl Lcp {
     /// The LCP of the problem (W its CSR), its laws taken at z; `None` when a block has no
     /// closed-form law of the LCP's kind, a diagonal entry is not positive or an entry not
     /// finite, or it has more than MAX_VARS variables.
-    fn new(w: CsMatView<'_, f64>, p: &Problem, rule: &dyn BoundRule, z: &[f64]) -> Option<Lcp> {
+    fn new(w: CsrView<'_>, p: &Problem, rule: &dyn BoundRule, z: &[f64]) -> Option<Lcp> {
         let n = p.q.len();
         // n, and per further row t⁺, t⁻ and λ: the size first, before any pass over W
         let size: usize = p.blocks.windows(2).map(|b| 1 + 3 * (b[1] - b[0]).saturating_sub(1)).sum();
@@ -187,7 +188,7 @@ impl Lcp {
 
 /// The rows of n, t⁺ and t⁻: ±(Ŵ y + q̂) with y = n or t⁺ − t⁻, into M's triplets and q.
 fn fill(
-    w: CsMatView<'_, f64>,
+    w: CsrView<'_>,
     qz: &[f64],
     vars: &[(usize, usize)],
     sc: &[f64],

@@ -9,11 +9,11 @@
 
 use super::measure::{Goal, Measure, Tally};
 use super::{BoundRule, Options};
+use crate::sparse::CsrView;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{LuRef, NumericLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Conj, MatMut, Par};
-use sprs::CsMatView;
 
 /// Newton steps a run may take before it hands over (each is one sparse LU).
 pub(super) const MAX_STEPS: usize = 30;
@@ -76,7 +76,7 @@ impl Work {
     #[allow(clippy::too_many_arguments)]
     pub fn run(
         &mut self,
-        w: CsMatView<'_, f64>,
+        w: CsrView<'_>,
         q: &[f64],
         blocks: &[usize],
         rule: &dyn BoundRule,
@@ -130,7 +130,7 @@ impl Work {
     #[allow(clippy::too_many_arguments)]
     fn search(
         &mut self,
-        w: CsMatView<'_, f64>,
+        w: CsrView<'_>,
         q: &[f64],
         blocks: &[usize],
         rule: &dyn BoundRule,
@@ -157,7 +157,7 @@ impl Work {
     }
 
     /// Sizes the vectors and reads D = diag(W); false when a diagonal is not positive and finite.
-    fn setup(&mut self, w: CsMatView<'_, f64>, n: usize) -> bool {
+    fn setup(&mut self, w: CsrView<'_>, n: usize) -> bool {
         for v in [&mut self.g, &mut self.d, &mut self.lo, &mut self.hi, &mut self.rhs, &mut self.zt] {
             v.clear();
             v.resize(n, 0.0);
@@ -174,7 +174,7 @@ impl Work {
     /// G = q + W z, the rule's bounds at z, and the measure of z (reported and merit).
     fn value(
         &mut self,
-        w: CsMatView<'_, f64>,
+        w: CsrView<'_>,
         q: &[f64],
         blocks: &[usize],
         rule: &dyn BoundRule,
@@ -203,7 +203,7 @@ impl Work {
     /// into `rhs`; false when the system is singular or the step not finite.
     fn direction(
         &mut self,
-        w: CsMatView<'_, f64>,
+        w: CsrView<'_>,
         blocks: &[usize],
         rule: &dyn BoundRule,
         z: &[f64],

@@ -12,7 +12,7 @@
 use super::local::{Local, MAX};
 use super::measure::{Goal, Measure, Tally};
 use super::{BoundRule, Options, Stats, Status};
-use sprs::CsMatView;
+use crate::sparse::CsrView;
 
 /// Sweeps between residual checks once the first few are done.
 pub(super) const CHECK_EVERY: usize = 8;
@@ -49,7 +49,7 @@ pub(super) enum End {
 }
 
 /// Can NSGS take this problem? Blocks of 1..=MAX rows with positive finite diagonals.
-pub(super) fn applicable(w: &CsMatView<'_, f64>, blocks: &[usize]) -> bool {
+pub(super) fn applicable(w: &CsrView<'_>, blocks: &[usize]) -> bool {
     let ok_blocks = blocks.windows(2).all(|b| (1..=MAX).contains(&(b[1] - b[0])));
     ok_blocks && w.is_csr()
 }
@@ -60,7 +60,7 @@ impl Work {
     /// (each one pass over W).
     pub fn run(
         &mut self,
-        w: CsMatView<'_, f64>,
+        w: CsrView<'_>,
         q: &[f64],
         blocks: &[usize],
         rule: &dyn BoundRule,
@@ -125,7 +125,7 @@ impl Work {
 
     /// Extracts the diagonal blocks; false when a block has a non-positive or non-finite
     /// diagonal entry or a column index out of range.
-    fn setup(&mut self, w: CsMatView<'_, f64>, blocks: &[usize], n: usize) -> bool {
+    fn setup(&mut self, w: CsrView<'_>, blocks: &[usize], n: usize) -> bool {
         self.diag.clear();
         for b in blocks.windows(2) {
             let mut a = [[0.0; MAX]; MAX];

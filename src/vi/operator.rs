@@ -4,7 +4,8 @@
 
 use std::ops::Deref;
 
-use sprs::{CsMatBase, CsMatView};
+use crate::sparse::CsrView;
+use sprs::CsMatBase;
 
 /// A square, symmetric, positive semidefinite W, seen through its products.
 pub trait Operator: Sync {
@@ -15,7 +16,7 @@ pub trait Operator: Sync {
     /// `out[j] = W_jj`.
     fn diagonal(&self, out: &mut [f64]);
     /// The explicit CSR matrix, when there is one: the solver then uses its fused, scaled fast path.
-    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
+    fn as_csr(&self) -> Option<CsrView<'_>> {
         None
     }
     /// Overwrites `out` with row weights of a diagonal bound of the scaled Ŵ = S W S,
@@ -56,7 +57,7 @@ where
     fn diagonal(&self, out: &mut [f64]) {
         diagonal_view(self.view(), out);
     }
-    fn as_csr(&self) -> Option<CsMatView<'_, f64>> {
+    fn as_csr(&self) -> Option<CsrView<'_>> {
         Some(if self.is_csr() { self.view() } else { self.transpose_view() })
     }
     fn row_bounds(&self, sc: &[f64], out: &mut [f64]) -> bool {
@@ -73,7 +74,7 @@ where
 }
 
 /// out = W z for CSR or CSC storage.
-fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
+fn apply_view(w: CsrView<'_>, z: &[f64], out: &mut [f64]) {
     if w.nnz() == 0 {
         out.fill(0.0); // no rows to walk (W of a scene of single bodies in body form)
     } else if w.is_csr() {
@@ -91,7 +92,7 @@ fn apply_view(w: CsMatView<'_, f64>, z: &[f64], out: &mut [f64]) {
 }
 
 /// out_r = sc_r Σ_j |W_rj| sc_j (Gershgorin's rows of S W S) for CSR or CSC storage.
-fn gershgorin_rows(w: CsMatView<'_, f64>, sc: &[f64], out: &mut [f64]) {
+fn gershgorin_rows(w: CsrView<'_>, sc: &[f64], out: &mut [f64]) {
     out.fill(0.0);
     if w.nnz() == 0 {
         return; // no rows to walk
@@ -105,7 +106,7 @@ fn gershgorin_rows(w: CsMatView<'_, f64>, sc: &[f64], out: &mut [f64]) {
 }
 
 /// The kept entries (`Operator::entries`) for CSR or CSC storage.
-pub(crate) fn entries_view(w: CsMatView<'_, f64>, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
+pub(crate) fn entries_view(w: CsrView<'_>, keep: &[bool], out: &mut Vec<(usize, usize, f64)>) {
     for (i, vec) in w.outer_iterator().enumerate() {
         for (j, &v) in vec.iter().filter(|(j, _)| keep[i] && keep[*j]) {
             out.push(if w.is_csr() { (i, j, v) } else { (j, i, v) });
@@ -114,7 +115,7 @@ pub(crate) fn entries_view(w: CsMatView<'_, f64>, keep: &[bool], out: &mut Vec<(
 }
 
 /// out[j] = W_jj (duplicate entries summed) for CSR or CSC storage.
-fn diagonal_view(w: CsMatView<'_, f64>, out: &mut [f64]) {
+fn diagonal_view(w: CsrView<'_>, out: &mut [f64]) {
     out.fill(0.0);
     for (i, vec) in w.outer_iterator().enumerate() {
         for (j, &v) in vec.iter() {

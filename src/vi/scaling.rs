@@ -2,14 +2,15 @@
 //! q̂ = D^{-1/2} q, with D = diag(W) guarded (`D_jj = 1` where `W_jj <= 0` or is not finite).
 //! Without Jacobi the same vectors hold ones and D⁻¹ (for the residual).
 //!
-//! An explicit CSR W is copied once per call with the scaling folded into its values and
-//! `u32` column indices (12 instead of 16 bytes per nonzero); a matrix-free W is scaled by
+//! An explicit W ([`crate::sparse::Csr`]) is copied once per call with the scaling folded into
+//! its values and `u32` column indices (12 instead of 16 bytes per nonzero; the copy is Ŵ, the
+//! sweeps' working form of W, not a second matrix type); a matrix-free W is scaled by
 //! vectors around each product. [`Rows`] gives the sweeps one interface to both.
 
 use super::Operator;
 use super::par;
 use super::pc::larger;
-use sprs::CsMatView;
+use crate::sparse::CsrView;
 
 /// The scaled W and q of one call, plus the zero rows (all stored entries 0, or for a
 /// matrix-free W a zero diagonal, which for a PSD W forces the whole row to vanish).
@@ -73,7 +74,7 @@ impl Scaling {
 
     /// Copies and scales an explicit n×n W. Returns max_j Ŵ_jj, or `None` when a column
     /// index is out of range or n does not fit the `u32` column indices.
-    pub fn setup_csr(&mut self, w: CsMatView<'_, f64>, jacobi: bool) -> Option<f64> {
+    pub fn setup_csr(&mut self, w: CsrView<'_>, jacobi: bool) -> Option<f64> {
         let n = w.rows();
         if n > u32::MAX as usize {
             return None;
@@ -250,7 +251,8 @@ impl Rows for Csr<'_> {
         let mut acc = 0.0;
         for (v, &j) in self.vals[a..b].iter().zip(&self.cols[a..b]) {
             // SAFETY: `Scaling::setup_csr` checked every column index < n, and `prepare`
-            // (called before every sweep) asserted x.len() == n.
+            // (called before every sweep) asserted x.len() == n. The tests below fail without
+            // either check. The unchecked read is the sweeps' innermost loop (benches/vi.rs).
             acc += v * unsafe { *x.get_unchecked(j as usize) };
         }
         acc
@@ -302,5 +304,42 @@ impl Rows for Scaled<'_> {
             *v *= self.sc[*i] * self.sc[*j];
         }
         true
+    }
+}
+
+/// The invariant of the unchecked read in [`Csr::row`]: every column index of the copy is below
+/// n (the rows of W), and every vector a sweep reads has length n. Each test fails when its check
+/// is removed (`j >= n` in [`Scaling::setup_csr`], the assertion in [`Csr::prepare`]).
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2×3 W with an entry in column 2 is refused (`None`): its column index 2 >= n = 2 would
+    /// be read past the end of a length-2 vector. Its 2×2 part is copied, with column indices
+    /// [0, 1, 1] (the entries as given) and values scaled to a unit diagonal (Jacobi: Ŵ_ii = 1).
+    #[test]
+    fn a_column_index_out_of_range_is_refused() {
+        let mut wide = sprs::TriMat::new((2, 3));
+        for (i, j, v) in [(0, 0, 4.0), (1, 1, 9.0), (0, 2, 1.0)] {
+            wide.add_triplet(i, j, v);
+        }
+        let wide: crate::sparse::Csr = wide.to_csr();
+        assert_eq!(Scaling::default().setup_csr(wide.view(), true), None);
+        let mut square = sprs::TriMat::new((2, 2));
+        for (i, j, v) in [(0, 0, 4.0), (0, 1, 1.0), (1, 1, 16.0)] {
+            square.add_triplet(i, j, v);
+        }
+        let square: crate::sparse::Csr = square.to_csr();
+        let mut s = Scaling::default();
+        assert_eq!(s.setup_csr(square.view(), true), Some(1.0));
+        assert_eq!((s.cols.as_slice(), s.vals[0], s.vals[2]), ([0, 1, 1].as_slice(), 1.0, 1.0));
+    }
+
+    /// A sweep over a vector of another length than n panics before any row is read.
+    #[test]
+    #[should_panic(expected = "vector length differs from W")]
+    fn a_vector_of_another_length_is_refused() {
+        let rows = Csr { rowptr: &[0, 1, 2], cols: &[0, 1], vals: &[1.0, 1.0] };
+        rows.prepare(&[1.0], &mut [0.0], &mut [0.0]);
     }
 }
