@@ -310,7 +310,10 @@ fn command_line_writes_the_scene_and_lists_what_it_ignores() {
         .expect("pbdda runs");
     assert!(!run.status.success());
     let stderr = String::from_utf8_lossy(&run.stderr);
-    assert!(stderr.contains("ntdda_cli_bad.geo:2: number of boundary lines"), "{stderr}");
+    // miette wraps the message at 80 columns, wherever the temporary path's length puts the
+    // breaks (inside a long path too): compared without whitespace
+    let flat: String = stderr.chars().filter(|c| !c.is_whitespace()).collect();
+    assert!(flat.contains("ntdda_cli_bad.geo:2:numberofboundarylines"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
