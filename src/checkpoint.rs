@@ -6,7 +6,7 @@
 //! memory, connectors, stage, the kept factors of the step stiffness, ...). `resume` builds the
 //! scene again, loads the state into it and goes on with the next step: that step and every
 //! later one are bit for bit those of a run that was never stopped, so the resumed run writes
-//! the same rows (tests/resume_examples.rs, every example). Resuming costs the steps still to
+//! the same rows (tests/io/resume_examples.rs, every example). Resuming costs the steps still to
 //! go, not the ones already done.
 //!
 //! The files are `DIR/checkpoint.toml` and the state it names, `DIR/state-NNNNNNNN.bin` (the

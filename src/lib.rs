@@ -10,7 +10,7 @@
 //!               -> VI solves (vi) -> update (body) -> StepRecord -> output::csv
 //! ```
 //!
-//! Modules from the bottom up (each uses only modules before it; `tests/module_graph.rs`
+//! Modules from the bottom up (each uses only modules before it; `tests/io/module_graph.rs`
 //! checks that there is no import cycle): `geometry`, `sparse` (faer's sparse Cholesky), `error`;
 //! `vi` (the variational-inequality solvers, no bodies); `mesh`; `model`; `traction`,
 //! `contact`; `body`; `dofs`, `jacobian`, `connector`; `cluster`; `delassus`; `world`;

@@ -2,7 +2,7 @@
 
 The time scheme (docs/math.md §1.1, Newmark beta = 1/2, gamma = 1) is exact for motion under a
 constant force: the position after n steps is the parabola's at t = n dt, whatever dt. So the
-tolerances are the solver's, not the scheme's: 1e-9 m, as tests/joint_provenance.rs argues
+tolerances are the solver's, not the scheme's: 1e-9 m, as tests/rock/joint_provenance.rs argues
 (tolerance 1e-12 relative on forces of ~10 kN, times dt^2 / m).
 """
 

@@ -1,7 +1,7 @@
 """pbdda.sweep equals `pbdda sweep`: on a Dask LocalCluster of two worker processes (each case
 a task) and in this process, sweep.csv is the CLI's byte for byte except the wall_seconds
 column (the cases are deterministic, tests/determinism.rs, and their results are stored with
-round-trip formatting, src/cli/sweep/plan.rs). The sweep is tests/sweep_plan.rs's: the bolted
+round-trip formatting, src/cli/sweep/plan.rs). The sweep is tests/io/sweep_plan.rs's: the bolted
 slope's three bolt strengths over every bolt (a wildcard), 60 steps each."""
 
 import subprocess

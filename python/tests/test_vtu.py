@@ -18,7 +18,7 @@ SCENES = sorted(EXAMPLES.glob("*.toml"))
 
 
 def test_examples_are_all_here():
-    # tests/vtk_output.rs counts the examples too
+    # tests/io/vtk_output.rs counts the examples too
     assert len(SCENES) == 28
 
 
@@ -26,6 +26,6 @@ def test_examples_are_all_here():
 def test_vtu_files_read_back_to_the_csvs(scene, tmp_path):
     out = tmp_path / scene.stem
     pbdda.run(scene, out, set={"time.steps": 4, "output.every": 2})
-    # steps 2 and 4, one file each (as tests/vtk_output.rs)
+    # steps 2 and 4, one file each (as tests/io/vtk_output.rs)
     assert check_vtu.check_dir(out) == 2
     assert sorted(p.name for p in (out / "vtk").glob("*.vtu")) == ["step_000002.vtu", "step_000004.vtu"]

@@ -399,7 +399,7 @@ mod tests {
     /// B's bottom corners lie δ behind A's top edge and on A's side lines, but B's bottom edge
     /// runs inside across each side line, so a side is no way out for them: the joint keeps both
     /// ends, B's vertices 0 and 1 on A's top edge (edge 2), n = -y, g0 = -δ, points at
-    /// y = 1 - δ/2. (A heavy block pressed into a light one sinks so, tests/mass_ratio.rs.)
+    /// y = 1 - δ/2. (A heavy block pressed into a light one sinks so, tests/paper/mass_ratio.rs.)
     /// Tolerance: a few ulp of coordinates of order 1.
     #[test]
     fn flush_sides_are_no_way_out() {

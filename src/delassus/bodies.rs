@@ -11,7 +11,7 @@
 //!
 //! The products keep B's own entries (the segments as pushed) and K̃_c⁻¹, not B_c R_c with a
 //! square root R_c R_cᵀ = K̃_c⁻¹, which would spare the per-body product: on the heavy-on-light
-//! stack of 1e12 (`tests/mass_ratio.rs`) the irrational entries of B R add rounding to the
+//! stack of 1e12 (`tests/paper/mass_ratio.rs`) the irrational entries of B R add rounding to the
 //! cancelling contact forces of the light block, and two of its steps do not converge.
 
 use super::blocks::{Blocks, NONE};

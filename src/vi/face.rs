@@ -37,7 +37,7 @@ pub(super) const BACKOFF: usize = 4;
 /// keeping the factorization stable.
 const EPS: f64 = 1e-9;
 /// Problems with fewer rows get no face solves. The reason is a limit of the face step, not
-/// of small problems: on the 1e12 heavy-on-light stack of `tests/mass_ratio.rs` (8 rows, 6
+/// of small problems: on the 1e12 heavy-on-light stack of `tests/paper/mass_ratio.rs` (8 rows, 6
 /// DOFs) Ŵ_FF's smallest range eigenvalues (~1e-12) cannot be told from its null space (the
 /// self-stress of the hyperstatic rows), so the factorization succeeds and the step adds a
 /// self-stress that neither the objective nor the exact gaps of §10.10's polish see (they

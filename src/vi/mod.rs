@@ -73,7 +73,7 @@
 //!   iterate without bounds checks (the column indices are checked once, in the copy).
 //! * A matrix-free W is applied through [`Operator::apply`] with the Jacobi scaling done by
 //!   vectors around each product (two extra passes over the rows per product); it solves
-//!   the same problems as the explicit path (`tests/vi_networks.rs`,
+//!   the same problems as the explicit path (`tests/solver/vi_networks.rs`,
 //!   `operator_path_matches_csr`), and `benches/vi.rs` (group `vi_products`) times both.
 //! * [`Solver`] keeps its work storage across calls: it allocates only when a problem is
 //!   larger than every previous one, never inside the iterations.
@@ -286,7 +286,7 @@ pub struct Report {
 
 /// The correction step of the PC method (math note §4.2). The extragradient-type step needed
 /// fewer W-products than the contraction step on every set measured (random box VIs,
-/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/vi_networks.rs`,
+/// three-disk Coulomb QVIs, a contact grid cold and warm started; see `tests/solver/vi_networks.rs`,
 /// `correction_comparison`, and `benches/vi.rs`) and keeps every iterate inside the box, so
 /// it is the default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -77,7 +77,7 @@ pub struct Settings {
     /// so the motion does not depend on it.
     pub contact_records: bool,
     /// Solve 2 holds the friction rows whose slip solve 1 stops (math note §10.15, "Friction
-    /// stops"). Off by default: with it `tests/slumping_pile.rs` takes about six times as long
+    /// stops"). Off by default: with it `tests/paper/slumping_pile.rs` takes about six times as long
     /// (its failed offset solves are solved again without them); off, the velocity of a
     /// friction-stopped body rings.
     pub friction_stops: bool,

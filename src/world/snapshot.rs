@@ -13,7 +13,7 @@
 //! other scratch (W's storage, the broad phase's pair cache, the solver's work vectors) is not
 //! state: a step fills it before reading it, or it gives the same answer however it was
 //! filled. A step that starts from the loaded state is bit for bit the step the saved run took
-//! (tests/resume_examples.rs checks every example).
+//! (tests/io/resume_examples.rs checks every example).
 
 use super::{Settings, StageState, TrackedPoint, World};
 use crate::body::Body;

@@ -132,7 +132,7 @@ fn velocity_is_a_finite_pair() {
 
 // ------------------------------------------------------------------ not supported yet
 
-// mesh bodies: tests/mesh_scene.rs
+// mesh bodies: tests/mesh/mesh_scene.rs
 
 #[test]
 fn deformable_body_needs_young_and_poisson() {

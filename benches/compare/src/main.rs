@@ -277,7 +277,7 @@ fn methods() {
 }
 
 /// `stops`: the cost of friction stops (math note §10.15) on frictional disk piles, on and
-/// off: the 60-disk slumping pile of tests/slumping_pile.rs (the bench pile with its right wall moved
+/// off: the 60-disk slumping pile of tests/paper/slumping_pile.rs (the bench pile with its right wall moved
 /// 0.05 m out, the scene format's iteration budget) and the settled 1,000-disk pile. Wall time,
 /// iterations, unconverged steps, steps whose stops were dropped, kinetic energy at the end.
 fn stops() {
