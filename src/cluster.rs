@@ -208,10 +208,18 @@ impl Flexibility {
                 dense::closed_factor(k).ok_or_else(failed)?
             } else {
                 let triplets = k.lower_triplets();
-                // reuse the symbolic analysis of the last factor of this cluster
-                let mut sparse = match self.factors.get(c).filter(|_| !first).map(|f| f.as_ref()) {
-                    Some(Factor::Sparse(s)) => s.renewed(),
-                    _ => SparseFactor::new(map.cluster_range(c).len()),
+                // reuse the symbolic analysis of the last factor of this cluster, and its
+                // storage when nothing else holds it
+                let last = self.factors.get_mut(c).filter(|_| !first);
+                let mut sparse = match last {
+                    Some(f) => match Arc::get_mut(f) {
+                        Some(Factor::Sparse(s)) => std::mem::replace(s, SparseFactor::new(0)),
+                        _ => match f.as_ref() {
+                            Factor::Sparse(s) => s.renewed(),
+                            _ => SparseFactor::new(map.cluster_range(c).len()),
+                        },
+                    },
+                    None => SparseFactor::new(map.cluster_range(c).len()),
                 };
                 sparse.factorize(&triplets).map_err(|_| failed())?;
                 self.sparse_factorizations += 1;

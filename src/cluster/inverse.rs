@@ -130,6 +130,34 @@ fn paths(tree: &Tree, new: &[usize]) -> (Vec<usize>, Vec<Vec<usize>>) {
     (groups, members)
 }
 
+/// Subtracts the update of the `u`-th group on the paths (one row per row of the factor below
+/// its diagonal block, one column per DOF through it) from the pieces of its ancestors,
+/// `rest` (the groups after it): one run of rows of one ancestor at a time, column by column.
+fn scatter(
+    tree: &Tree,
+    groups: &[usize],
+    members: &[Vec<usize>],
+    u: usize,
+    rows: &[usize],
+    update: &Mat<f64>,
+    rest: &mut [Mat<f64>],
+) {
+    let mut i = 0;
+    while i < rows.len() {
+        let t = tree.group_of[rows[i]];
+        let end = i + rows[i..].iter().take_while(|&&r| tree.group_of[r] == t).count();
+        let v = groups.binary_search(&t).expect("an ancestor is on the paths");
+        let (target, start) = (&mut rest[v - u - 1], tree.start[t]);
+        for (c, j) in members[u].iter().enumerate() {
+            let to = target.col_as_slice_mut(members[v].binary_search(j).expect("ancestor"));
+            for (&r, &d) in rows[i..end].iter().zip(&update.col_as_slice(c)[i..end]) {
+                to[r - start] -= d;
+            }
+        }
+        i = end;
+    }
+}
+
 impl InverseCache {
     /// Adds the DOFs `new` (distinct, none in S yet) to S: their forward solves along their
     /// paths, then their entries against S (old members and each other) group by group.
@@ -160,21 +188,7 @@ impl InverseCache {
             }
             let mut update = Mat::<f64>::zeros(group.rows.len(), x.ncols());
             matmul(update.as_mut(), Accum::Replace, group.below, x.as_ref(), 1.0, Par::Seq);
-            let mut at: Option<(usize, Vec<usize>)> = None; // the ancestor and the column map
-            for (i, &r) in group.rows.iter().enumerate() {
-                let t = tree.group_of[r];
-                if at.as_ref().is_none_or(|a| groups[a.0] != t) {
-                    let v = groups.binary_search(&t).expect("an ancestor is on the paths");
-                    let map = members[u].iter().map(|j| members[v].binary_search(j).expect("ancestor"));
-                    at = Some((v, map.collect()));
-                }
-                let (v, map) = at.as_ref().expect("set above");
-                let target = &mut rest[v - u - 1];
-                let row = r - tree.start[groups[*v]];
-                for (c, &m) in map.iter().enumerate() {
-                    target[(row, m)] -= update[(i, c)];
-                }
-            }
+            scatter(tree, &groups, &members, u, group.rows, &update, rest);
         }
         self.gram(new, &groups, &members, pieces);
     }
@@ -192,17 +206,18 @@ impl InverseCache {
             let old = panel.slots.len();
             let rows = x.nrows();
             let y_old = MatRef::from_column_major_slice(&panel.values, rows, old);
-            let mut cross = Mat::<f64>::zeros(m.len(), old + m.len());
-            let (mut with_old, mut with_new) = cross.as_mut().split_at_col_mut(old);
-            matmul(with_old.as_mut(), Accum::Replace, x.transpose(), y_old, 1.0, Par::Seq);
+            // column c: the products of the c-th new piece with the old pieces, then with the new
+            let mut cross = Mat::<f64>::zeros(old + m.len(), m.len());
+            let (mut with_old, mut with_new) = cross.as_mut().split_at_row_mut(old);
+            matmul(with_old.as_mut(), Accum::Replace, y_old.transpose(), x.as_ref(), 1.0, Par::Seq);
             matmul(with_new.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, Par::Seq);
             for (c, &j) in m.iter().enumerate() {
-                let row = &mut self.lower[known + j];
-                for (o, &b) in panel.slots.iter().enumerate() {
-                    row[b] += cross[(c, o)];
+                let (row, column) = (&mut self.lower[known + j], cross.col_as_slice(c));
+                for (&b, &v) in panel.slots.iter().zip(column) {
+                    row[b] += v;
                 }
-                for (c2, &j2) in m[..=c].iter().enumerate() {
-                    row[known + j2] += cross[(c, old + c2)];
+                for (&j2, &v) in m[..=c].iter().zip(&column[old..]) {
+                    row[known + j2] += v;
                 }
             }
             panel.slots.extend(m.iter().map(|j| known + j));

@@ -5,7 +5,7 @@
 use super::inverse::{InverseCache, Tree};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{LltRef, SymbolicCholesky, factorize_symbolic_cholesky};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{Argsort, Pair, SparseColMat, SymbolicSparseColMat, Triplet};
 use faer::{Conj, MatMut, Side};
 use std::sync::{Arc, Mutex};
 
@@ -23,13 +23,26 @@ pub struct SparseFactor {
     n: usize,
     /// Sparsity pattern (sorted, deduplicated (row, col) of the lower triangle) of the last
     /// symbolic analysis.
-    pattern: Vec<(usize, usize)>,
+    pattern: Arc<Vec<(usize, usize)>>,
     symbolic: Option<Arc<(SymbolicCholesky<usize>, Tree)>>,
+    /// How the last triplets were gathered into compressed columns, kept for the next ones.
+    assembly: Option<Arc<Assembly>>,
     /// The factor's values (faer's layout for `symbolic`) after a successful factorization.
     numeric: Option<Vec<f64>>,
     /// Entries of K⁻¹ among the DOFs that contacts have touched since the last numeric
     /// factorization (math note §9.3).
     inverse: Mutex<InverseCache>,
+}
+
+/// The compressed columns of a list of triplets and where each triplet's value goes in them
+/// (faer's argsort: the order in which duplicates are summed), for the triplets' positions
+/// `keys`. Triplets that come again with the same positions in the same order are gathered
+/// through it, without sorting them again, into the same matrix, bit for bit.
+#[derive(Debug)]
+struct Assembly {
+    keys: Vec<(usize, usize)>,
+    columns: SymbolicSparseColMat<usize>,
+    argsort: Argsort<usize>,
 }
 
 impl Clone for SparseFactor {
@@ -39,6 +52,7 @@ impl Clone for SparseFactor {
             n: self.n,
             pattern: self.pattern.clone(),
             symbolic: self.symbolic.clone(),
+            assembly: self.assembly.clone(),
             numeric: self.numeric.clone(),
             inverse: Mutex::new(self.inverse.lock().map(|c| c.clone()).unwrap_or_default()),
         }
@@ -54,8 +68,9 @@ impl SparseFactor {
     pub fn new(n: usize) -> SparseFactor {
         SparseFactor {
             n,
-            pattern: Vec::new(),
+            pattern: Arc::default(),
             symbolic: None,
+            assembly: None,
             numeric: None,
             inverse: Mutex::new(InverseCache::default()),
         }
@@ -67,6 +82,7 @@ impl SparseFactor {
         SparseFactor {
             pattern: self.pattern.clone(),
             symbolic: self.symbolic.clone(),
+            assembly: self.assembly.clone(),
             ..SparseFactor::new(self.n)
         }
     }
@@ -78,34 +94,29 @@ impl SparseFactor {
     }
 
     /// Numeric factorization of the symmetric matrix given by its lower-triangle `triplets`
-    /// (duplicates are summed); symbolic analysis (faer's defaults: AMD ordering) only when
-    /// the pattern changed.
+    /// (duplicates are summed), into the values of the last factorization when it has them;
+    /// symbolic analysis (faer's defaults: AMD ordering) only when the pattern changed.
+    /// Triplets at the same positions as the last ones are gathered into compressed columns
+    /// without sorting them again ([`Assembly`]).
     pub fn factorize(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), SparseError> {
         let error = |e: &dyn std::fmt::Debug| SparseError(format!("{e:?}"));
-        let entries: Vec<Triplet<usize, usize, f64>> =
-            triplets.iter().map(|&(r, c, v)| Triplet::new(r, c, v)).collect();
-        let mat = SparseColMat::<usize, f64>::try_new_from_triplets(self.n, self.n, &entries)
-            .map_err(|e| error(&e))?;
-        let pattern: Vec<(usize, usize)> =
-            (0..self.n).flat_map(|j| mat.symbolic().row_idx_of_col(j).map(move |i| (i, j))).collect();
-        if self.symbolic.is_none() || pattern != self.pattern {
-            let symbolic = factorize_symbolic_cholesky(
-                mat.symbolic(),
-                Side::Lower,
-                Default::default(),
-                Default::default(),
-            )
-            .map_err(|e| error(&e))?;
-            let tree = Tree::new(&symbolic);
-            self.symbolic = Some(Arc::new((symbolic, tree)));
-            self.pattern = pattern;
+        let same = self.assembly.as_ref().is_some_and(|a| {
+            a.keys.len() == triplets.len() && a.keys.iter().zip(triplets).all(|(k, t)| *k == (t.0, t.1))
+        });
+        if !same || self.symbolic.is_none() {
+            self.assemble(triplets)?;
         }
+        let assembly = self.assembly.as_ref().ok_or_else(|| SparseError("no assembly".into()))?;
+        let values: Vec<f64> = triplets.iter().map(|t| t.2).collect();
+        let mat = SparseColMat::new_from_argsort(assembly.columns.clone(), &assembly.argsort, &values)
+            .map_err(|e| error(&e))?;
         let symbolic = &self.symbolic.as_ref().ok_or_else(|| SparseError("no symbolic factor".into()))?.0;
-        self.numeric = None;
         self.inverse = Mutex::new(InverseCache::default());
-        let mut values = Vec::new();
-        values.try_reserve_exact(symbolic.len_val()).map_err(|e| error(&e))?;
-        values.resize(symbolic.len_val(), 0.0);
+        let mut values = self.numeric.take().filter(|v| v.len() == symbolic.len_val()).unwrap_or_default();
+        if values.is_empty() {
+            values.try_reserve_exact(symbolic.len_val()).map_err(|e| error(&e))?;
+            values.resize(symbolic.len_val(), 0.0);
+        }
         let par = faer::get_global_parallelism();
         let scratch = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
         let mut buffer = MemBuffer::try_new(scratch).map_err(|e| error(&e))?;
@@ -121,6 +132,33 @@ impl SparseFactor {
             )
             .map_err(|e| error(&e))?;
         self.numeric = Some(values);
+        Ok(())
+    }
+
+    /// The compressed columns of `triplets` ([`Assembly`]), and the symbolic analysis of their
+    /// pattern when it differs from the last one.
+    fn assemble(&mut self, triplets: &[(usize, usize, f64)]) -> Result<(), SparseError> {
+        let error = |e: &dyn std::fmt::Debug| SparseError(format!("{e:?}"));
+        let at: Vec<Pair<usize, usize>> = triplets.iter().map(|&(r, c, _)| Pair::new(r, c)).collect();
+        let (columns, argsort) =
+            SymbolicSparseColMat::try_new_from_indices(self.n, self.n, &at).map_err(|e| error(&e))?;
+        let pattern: Vec<(usize, usize)> =
+            (0..self.n).flat_map(|j| columns.row_idx_of_col(j).map(move |i| (i, j))).collect();
+        if self.symbolic.is_none() || *pattern != **self.pattern {
+            let symbolic = factorize_symbolic_cholesky(
+                columns.as_ref(),
+                Side::Lower,
+                Default::default(),
+                Default::default(),
+            )
+            .map_err(|e| error(&e))?;
+            let tree = Tree::new(&symbolic);
+            self.symbolic = Some(Arc::new((symbolic, tree)));
+            self.pattern = Arc::new(pattern);
+            self.numeric = None;
+        }
+        let keys = triplets.iter().map(|t| (t.0, t.1)).collect();
+        self.assembly = Some(Arc::new(Assembly { keys, columns, argsort }));
         Ok(())
     }
 
@@ -159,7 +197,7 @@ impl SparseFactor {
         numeric: Option<Vec<f64>>,
         inverse: Mutex<InverseCache>,
     ) -> SparseFactor {
-        SparseFactor { n, pattern, symbolic, numeric, inverse }
+        SparseFactor { n, pattern: Arc::new(pattern), symbolic, assembly: None, numeric, inverse }
     }
 
     /// `(K⁻¹)_SS` for the DOFs `dofs` (distinct), column-major `|S| × |S|`: read from the
