@@ -522,59 +522,50 @@ mod random {
     }
 }
 
+/// Merges do not chain (math note §12.3): three vertical joints x = 1, 1.0006, 1.0012 across the
+/// rectangle 2 x 1, min_edge 1e-3. Their crossings with each long side are 6e-4 apart (x = 1 and
+/// 1.0012 are 1.2e-3 apart). The crossing at x = 1 (first inserted, so of lowest index among
+/// these rank-1 vertices) takes the one at 1.0006; the one at 1.0012 is 1.2e-3 from it and stays.
+/// So 2 merges (one per side) of 2 vertices 6e-4 apart, the strip 1 < x < 1.0006 collapses
+/// (dropped, zero area) and the strip 1 < x < 1.0012 remains (1.2e-3 thick, above min_edge):
+/// 3 blocks of 1, 1.2e-3 and 0.9988 m2. (A union of all close pairs would merge all three
+/// crossings, moving the last by 1.2e-3, and leave 2 blocks.) 1e-12 on areas: the coordinates
+/// are not binary fractions, each area carries the rounding of 1.0006 and 1.0012.
+#[test]
+fn merges_do_not_chain() {
+    let spec = CutSpec {
+        domain: rect(2.0, 1.0),
+        joints: [1.0, 1.0006, 1.0012].iter().map(|&x| joint(&[[x, -1.0], [x, 2.0]])).collect(),
+        ..CutSpec::default()
+    };
+    let c = cut(&spec).unwrap();
+    let mut areas: Vec<f64> = c.blocks.iter().map(|b| b.area).collect();
+    areas.sort_by(f64::total_cmp);
+    assert_eq!(areas.len(), 3, "{:?}", c.reports);
+    for (a, e) in areas.iter().zip([1.2e-3, 0.9988, 1.0]) {
+        assert!((a - e).abs() < 1e-12, "{areas:?}");
+    }
+    let merges: Vec<&Report> =
+        c.reports.iter().filter(|r| matches!(r, Report::MergedVertices { .. })).collect();
+    assert_eq!(merges.len(), 2, "{:?}", c.reports);
+    for r in merges {
+        let Report::MergedVertices { count, distance, at } = r else { unreachable!() };
+        assert_eq!(*count, 2);
+        assert!((distance - 6e-4).abs() < 1e-12 && at[0] == 1.0, "{r}");
+    }
+}
+
 /// Inputs on which `cargo fuzz run cut` found the cutter failing, decoded exactly as
 /// fuzz/fuzz_targets/cut.rs decodes its bytes (the decoder is copied here, since the fuzz crate is
-/// not part of the workspace). Each must cut without error: spade's constraint splitting once
-/// asserted on their nearly coincident crossings (`CutError::Degenerate` in a normal build); the
-/// glue now splits constraints itself (math note §12.7). The fuzz target's area identity (blocks
+/// not part of the workspace). Each must cut without error (spade's constraint splitting once
+/// asserted on their nearly coincident crossings; the glue now splits constraints itself, math
+/// note §12.7), or be refused by a named error where merges would lose area (math note §12.8).
+/// The fuzz target's area identity (blocks
 /// sum to the domain less the removed excavation, 1e-9 relative plus 4 merge distances squared per
 /// report: a merge moves the outline by at most the merge distance near a corner) is checked
 /// where the target checks it.
 #[path = "../fuzz/fuzz_targets/cut_input.rs"]
 mod cut_input;
 
-mod fuzz_crashes {
-    use super::cut_input::{check, check_area, decode};
-    use pbdda::rockmass::cut;
-
-    /// The first crash (spade's `!previous_region.is_empty() || from == final_vertex`).
-    #[test]
-    fn crash_141367992574() {
-        check(include_bytes!("../fuzz/crashes/cut/crash-141367992574cda1dabce779d78ccd860eb82472"));
-    }
-
-    /// The fuzz target's area identity (header above) on the input it stopped on after 4,475
-    /// executions: the blocks summed to 17.57318029975338 against 17.58412627092939 for the
-    /// domain less the removed excavation (closed form, shoelace of the two input polygons).
-    #[test]
-    fn area_6f7d9fea10b3() {
-        check(include_bytes!("../fuzz/crashes/cut/area-6f7d9fea10b36ae87f22a0a0c8b8ceb903537f5c"));
-    }
-
-    /// Every input of the kept fuzz corpus (fuzz/corpus/cut) cuts or is refused with an error
-    /// naming its input (spacing, block limit, ...), never by the panic guard around the
-    /// triangulation (`CutError::Degenerate` "triangulation failed"); a cut passes the area
-    /// identity above.
-    #[test]
-    fn the_fuzz_corpus_never_reaches_the_panic_guard() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/corpus/cut");
-        let mut files: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-            .map(|e| e.unwrap_or_else(|e| panic!("{e}")).path())
-            .collect();
-        files.sort();
-        assert!(!files.is_empty());
-        for f in files {
-            let (spec, expected) = decode(&std::fs::read(&f).unwrap_or_else(|e| panic!("{e}")));
-            match cut(&spec) {
-                Ok(c) => check_area(&spec, &c, expected),
-                Err(pbdda::rockmass::CutError::Degenerate { message, .. })
-                    if message.contains("triangulation failed") =>
-                {
-                    panic!("{}: {message}", f.display())
-                }
-                Err(_) => {}
-            }
-        }
-    }
-}
+#[path = "rockmass_cut/fuzz_crashes.rs"]
+mod fuzz_crashes;

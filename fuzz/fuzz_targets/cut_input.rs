@@ -4,9 +4,10 @@
 //! areas sum to the domain's less the removed excavation's (1e-9 relative) for a star-shaped
 //! domain and at most one removed excavation inside it; each reported merge or dropped sliver may
 //! move the outline by up to max(min_edge, 1e-9 D) near a corner, so each allows that squared.
-//! An excavation with a vertex within three merge distances of the domain's outline (a chain of
-//! merges may join them) has no identity: by design (math note §12.8) its corner moves onto the
-//! outline, which changes its area by up to the merge distance times its edges there.
+//! A removed excavation whose outline comes closer than the merge distance to the domain's has
+//! no identity: by the cutter's rule (math note §12.8) its vertex there merges into the
+//! outline's and moves by up to the merge distance, which changes its area by up to the merge
+//! distance times half its two edges there.
 
 use pbdda::rockmass::{Bridges, CutSpec, Excavation, Joint, JointSet, circle, cut};
 
@@ -29,15 +30,29 @@ fn shoelace(p: &[[f64; 2]]) -> f64 {
         / 2.0
 }
 
-fn distance_to_outline(p: [f64; 2], poly: &[[f64; 2]]) -> f64 {
+fn distance_to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let dd = d[0] * d[0] + d[1] * d[1];
+    let t = if dd > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
+    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+}
+
+/// The least distance between the outlines of two polygons (0 where two edges cross).
+fn outline_gap(p: &[[f64; 2]], q: &[[f64; 2]]) -> f64 {
+    let side =
+        |a: [f64; 2], b: [f64; 2], c: [f64; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
     let mut best = f64::INFINITY;
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let d = [b[0] - a[0], b[1] - a[1]];
-        let dd = d[0] * d[0] + d[1] * d[1];
-        let t =
-            if dd > 0.0 { (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / dd).clamp(0.0, 1.0) } else { 0.0 };
-        best = best.min((p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1]));
+    for i in 0..p.len() {
+        let (a, b) = (p[i], p[(i + 1) % p.len()]);
+        for j in 0..q.len() {
+            let (c, d) = (q[j], q[(j + 1) % q.len()]);
+            if side(a, b, c) * side(a, b, d) < 0.0 && side(c, d, a) * side(c, d, b) < 0.0 {
+                return 0.0;
+            }
+            let ends = [distance_to_segment(a, c, d), distance_to_segment(b, c, d)];
+            let others = [distance_to_segment(c, a, b), distance_to_segment(d, a, b)];
+            best = ends.into_iter().chain(others).fold(best, f64::min);
+        }
     }
     best
 }
@@ -105,10 +120,10 @@ pub fn decode(data: &[u8]) -> (CutSpec, Option<f64>) {
         block_limit: 2_000,
     };
     let removed: Vec<&Excavation> = excavations.iter().filter(|e| !e.keep).collect();
-    let margin = 3.0 * merge_distance(spec.min_edge);
-    let within = removed
-        .iter()
-        .all(|e| e.vertices.iter().all(|p| inside(*p, &domain) && distance_to_outline(*p, &domain) > margin));
+    let merge = merge_distance(spec.min_edge);
+    let within = removed.iter().all(|e| {
+        e.vertices.iter().all(|p| inside(*p, &domain)) && outline_gap(&e.vertices, &domain) >= merge
+    });
     let expected = (!free && removed.len() <= 1 && within)
         .then(|| shoelace(&domain).abs() - removed.iter().map(|e| shoelace(&e.vertices)).sum::<f64>());
     (spec, expected)

@@ -17,8 +17,8 @@ CORPUS = ROOT / "tests" / "bad_inputs"
 
 def test_every_bad_scene_raises_with_its_message():
     scenes = sorted(CORPUS.glob("*.toml"))
-    # tests/bad_inputs.rs counts 110 scenes (and 10 meshes) in the corpus
-    assert len(scenes) == 110
+    # tests/bad_inputs.rs counts 111 scenes (and 10 meshes) in the corpus
+    assert len(scenes) == 111
     for path in scenes:
         with pytest.raises(pbdda.SceneError) as info:
             pbdda.load(path)

@@ -77,6 +77,9 @@ pub(crate) fn check(spec: &CutSpec) -> Result<Checked, CutError> {
         }
     }
     let scale = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+    let reach = 1e-9 * scale;
+    let merge = spec.min_edge.max(reach);
+    long_edges(&spec.domain, merge).map_err(CutError::Domain)?;
     for (set, s) in spec.joint_sets.iter().enumerate() {
         check_set(s).map_err(|message| CutError::Set { set, message })?;
     }
@@ -93,14 +96,32 @@ pub(crate) fn check(spec: &CutSpec) -> Result<Checked, CutError> {
     for (excavation, e) in spec.excavations.iter().enumerate() {
         let fail = |message: String| CutError::Excavation { excavation, message };
         let outline = ccw_polygon(&e.vertices).map_err(fail)?;
+        long_edges(&e.vertices, merge).map_err(fail)?;
         if super::clip::polygons_disjoint(&domain, &outline) {
             return Err(fail("the excavation lies outside the domain".into()));
         }
         excavations.push(outline);
     }
     estimate_blocks(spec, &domain)?;
-    let reach = 1e-9 * scale;
-    Ok(Checked { domain, excavations, lo, hi, scale, merge: spec.min_edge.max(reach), reach })
+    Ok(Checked { domain, excavations, lo, hi, scale, merge, reach })
+}
+
+/// An outline (the domain's or an excavation's, as given) whose every edge is at least the
+/// merge distance long (math note §12.8): the ends of a shorter edge would merge, and a polygon
+/// of such edges would shrink or vanish.
+fn long_edges(v: &[[f64; 2]], merge: f64) -> Result<(), String> {
+    for i in 0..v.len() {
+        let (p, q) = (v[i], v[(i + 1) % v.len()]);
+        let length = (q[0] - p[0]).hypot(q[1] - p[1]);
+        if length < merge {
+            return Err(format!(
+                "edge vertices[{i}]-vertices[{}] is {length:.3e} m long, shorter than the merge \
+                 distance {merge:.3e} m (max(min_edge, 1e-9 D)); lower min_edge or use fewer vertices",
+                (i + 1) % v.len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 fn check_set(s: &JointSet) -> Result<(), String> {

@@ -117,7 +117,9 @@ pub struct CutSpec {
     pub joints: Vec<Joint>,
     pub excavations: Vec<Excavation>,
     /// [m] cut vertices closer than this are merged and blocks thinner than this are joined to a
-    /// neighbour (math note §12.3); each is a [`Report`].
+    /// neighbour (math note §12.3); each is a [`Report`]. An outline or excavation edge shorter
+    /// than this (or than 1e-9 of the domain's diagonal) is an error, and so is a merge that
+    /// would pinch a hole off a block (math note §12.8).
     pub min_edge: f64,
     /// Seed of every random deviation (math note §12.2).
     pub seed: u64,

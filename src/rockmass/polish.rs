@@ -131,7 +131,7 @@ pub(crate) fn finish(spec: &CutSpec, checked: &Checked, arr: Arrangement) -> Res
     let mut polys = Vec::new();
     for r in regions {
         let verts: Vec<usize> = r.verts.iter().map(|&v| rep[v]).collect();
-        split_pinches(&positions, verts, r.edges, r.excavation, &mut polys, &mut reports);
+        split_pinches(&positions, verts, r.edges, r.excavation, &mut polys, &mut reports)?;
     }
     if spec.min_edge > 0.0 {
         join_thin(&positions, &mut polys, spec.min_edge, &mut reports);
@@ -154,8 +154,11 @@ pub(crate) fn finish(spec: &CutSpec, checked: &Checked, arr: Arrangement) -> Res
     Ok(Cut { blocks, reports })
 }
 
-/// Union-find of the used vertices closer than `tol`; each vertex's representative, the one of
-/// lowest (rank, index) in its cluster. One report per cluster of two or more.
+/// The merge of close vertices (math note §12.3, §12.8), without chains: the used vertices in
+/// order of (rank, index); each one closer than `tol` to no centre so far is a centre. Every
+/// other vertex moves to the centre of lowest rank, then nearest, then lowest index, of those
+/// closer than `tol` to it. So no vertex moves by `tol` or more, and two centres are at least
+/// `tol` apart. One report per centre that took another vertex.
 fn merge_vertices(
     positions: &[[f64; 2]],
     rank: &[u8],
@@ -163,61 +166,50 @@ fn merge_vertices(
     tol: f64,
     reports: &mut Vec<Report>,
 ) -> Vec<usize> {
-    let mut parent: Vec<usize> = (0..positions.len()).collect();
-    fn root(parent: &mut [usize], mut v: usize) -> usize {
-        while parent[v] != v {
-            parent[v] = parent[parent[v]];
-            v = parent[v];
-        }
-        v
-    }
     let mut used: Vec<usize> = regions.iter().flat_map(|r| r.verts.iter().copied()).collect();
-    used.sort_unstable();
+    used.sort_unstable_by_key(|&v| (rank[v], v));
     used.dedup();
     let key = |p: [f64; 2]| ((p[0] / tol).floor() as i64, (p[1] / tol).floor() as i64);
-    let mut grid: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    for &v in &used {
-        grid.entry(key(positions[v])).or_default().push(v);
-    }
-    for &v in &used {
+    let dist =
+        |v: usize, w: usize| (positions[v][0] - positions[w][0]).hypot(positions[v][1] - positions[w][1]);
+    let mut centres: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    // the centres closer than `tol` to v, from the 3 x 3 cells of side `tol` around it
+    let near = |centres: &HashMap<(i64, i64), Vec<usize>>, v: usize| -> Vec<usize> {
         let (i, j) = key(positions[v]);
-        for di in -1..=1 {
-            for dj in -1..=1 {
-                let Some(others) = grid.get(&(i + di, j + dj)) else { continue };
-                for &w in others {
-                    let (p, q) = (positions[v], positions[w]);
-                    if w > v && (p[0] - q[0]).hypot(p[1] - q[1]) < tol {
-                        let (a, b) = (root(&mut parent, v), root(&mut parent, w));
-                        if a != b {
-                            // the root is the one of lowest (rank, index)
-                            let (keep, drop) = if (rank[a], a) <= (rank[b], b) { (a, b) } else { (b, a) };
-                            parent[drop] = keep;
-                        }
-                    }
-                }
-            }
+        let cells = (-1..=1).flat_map(|di| (-1..=1).map(move |dj| (i + di, j + dj)));
+        cells.filter_map(|c| centres.get(&c)).flatten().copied().filter(|&c| dist(v, c) < tol).collect()
+    };
+    for &v in &used {
+        if near(&centres, v).is_empty() {
+            centres.entry(key(positions[v])).or_default().push(v);
         }
     }
     let mut rep: Vec<usize> = (0..positions.len()).collect();
-    let mut clusters: HashMap<usize, (usize, f64)> = HashMap::new();
+    let mut taken: HashMap<usize, (usize, f64)> = HashMap::new();
     for &v in &used {
-        let r = root(&mut parent, v);
-        rep[v] = r;
-        let (p, q) = (positions[v], positions[r]);
-        let e = clusters.entry(r).or_insert((0, 0.0));
-        e.0 += 1;
-        e.1 = e.1.max((p[0] - q[0]).hypot(p[1] - q[1]));
+        let best = near(&centres, v)
+            .into_iter()
+            .min_by(|&a, &b| rank[a].cmp(&rank[b]).then(dist(v, a).total_cmp(&dist(v, b))).then(a.cmp(&b)));
+        if let Some(c) = best.filter(|&c| c != v) {
+            rep[v] = c;
+            let e = taken.entry(c).or_insert((1, 0.0));
+            e.0 += 1;
+            e.1 = e.1.max(dist(v, c));
+        }
     }
-    let mut list: Vec<(usize, (usize, f64))> = clusters.into_iter().filter(|c| c.1.0 > 1).collect();
-    list.sort_unstable_by_key(|c| c.0);
-    for (r, (count, distance)) in list {
-        reports.push(Report::MergedVertices { count, distance, at: positions[r] });
+    let mut list: Vec<(usize, (usize, f64))> = taken.into_iter().collect();
+    list.sort_unstable_by_key(|c| (rank[c.0], c.0));
+    for (c, (count, distance)) in list {
+        reports.push(Report::MergedVertices { count, distance, at: positions[c] });
     }
     rep
 }
 
-/// Drops edges whose ends merged and splits a loop that now touches itself into simple loops;
-/// loops of no positive area are dropped (reported).
+/// Drops edges whose ends merged and splits a loop that now touches itself into simple loops.
+/// A loop of no positive area is dropped (reported) when it is a fold, of area at most
+/// `1e-13 l^2` (`l` its longest edge; rounding); a clockwise loop of more area is a hole the
+/// merges have pinched off (other blocks fill it, so dropping it would count their area twice):
+/// the cut is refused (math note §12.8).
 fn split_pinches(
     positions: &[[f64; 2]],
     verts: Vec<usize>,
@@ -225,7 +217,7 @@ fn split_pinches(
     excavation: Option<usize>,
     out: &mut Vec<Poly>,
     reports: &mut Vec<Report>,
-) {
+) -> Result<(), CutError> {
     let n = verts.len();
     let mut stack: Vec<(usize, EdgeSource)> = Vec::with_capacity(n);
     let mut at: HashMap<usize, usize> = HashMap::new();
@@ -234,9 +226,27 @@ fn split_pinches(
         let a = area2(positions, &vs) / 2.0;
         if vs.len() >= 3 && a > 0.0 {
             out.push(Poly { verts: vs, edges: lp.iter().map(|e| e.1).collect(), excavation, alive: true });
-        } else if !vs.is_empty() {
-            reports.push(Report::DroppedSliver { area: a.abs(), at: positions[vs[0]] });
+            return Ok(());
         }
+        let Some(&first) = vs.first() else { return Ok(()) };
+        let longest = (0..vs.len())
+            .map(|i| {
+                let (p, q) = (positions[vs[i]], positions[vs[(i + 1) % vs.len()]]);
+                (q[0] - p[0]).hypot(q[1] - p[1])
+            })
+            .fold(0.0, f64::max);
+        if -a > 1e-13 * longest * longest {
+            return Err(CutError::Degenerate {
+                at: positions[first],
+                message: format!(
+                    "merging vertices closer than the merge distance (min_edge) pinches off a hole of \
+                     area {:.3e} m2 in a block; lower min_edge",
+                    -a
+                ),
+            });
+        }
+        reports.push(Report::DroppedSliver { area: a.abs(), at: positions[first] });
+        Ok(())
     };
     for i in 0..n {
         let (v, w) = (verts[i], verts[(i + 1) % n]);
@@ -248,12 +258,12 @@ fn split_pinches(
             for e in &lp {
                 at.remove(&e.0);
             }
-            emit(lp, out);
+            emit(lp, out)?;
         }
         at.insert(v, stack.len());
         stack.push((v, edges[i]));
     }
-    emit(stack, out);
+    emit(stack, out)
 }
 
 pub(crate) fn area2(positions: &[[f64; 2]], verts: &[usize]) -> f64 {
