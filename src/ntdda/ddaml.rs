@@ -263,29 +263,7 @@ pub fn analysis(file: &str, source: &str) -> Result<Analysis, ImportError> {
                 });
             }
             "Loadpointlist" => load_histories(&c, n, &mut a)?,
-            "Gravity" => a.ignored.push(ign(
-                "ntdda's gravity turn-on phase and its tolerances: pbdda applies gravity from t = 0",
-            )),
-            "Autopenalty" => a.ignored.push(ign("penalty number and factor: pbdda has no penalty springs")),
-            "AConstants" => a.ignored.push(ign(
-                "ntdda's contact constants (open-close, penalty, angle overlap): pbdda's contacts are exact",
-            )),
-            "Rotation" => {
-                a.ignored.push(ign("ntdda's rotation linearisation: pbdda's is its own (math note)"))
-            }
-            "Mintimestep" => a
-                .ignored
-                .push(ign("ntdda's smallest automatic step: pbdda's is [time] step / 2^max_halvings")),
-            "Maxdisplacement" => a
-                .ignored
-                .push(ign("ntdda's limit on a step's motion (g2): pbdda limits it by the contact threshold")),
-            "OCLimit" | "Opencloselimit" => {
-                a.ignored.push(ign("ntdda's open-close iteration limit: pbdda's contacts need none"))
-            }
-            "Writevertices" => a.ignored.push(ign("ntdda's output choice: pbdda writes every body")),
-            "Timehistory" => a.ignored.push(ign("earthquake ground motion: not imported")),
-            "ContactDamping" => a.ignored.push(ign("contact damping: pbdda has none")),
-            _ => a.ignored.push(ign("not an analysis element ntdda reads: skipped as ntdda does")),
+            tag => a.ignored.push(ign(ignored_why(tag))),
         }
     }
     if !have_steps {
@@ -295,6 +273,27 @@ pub fn analysis(file: &str, source: &str) -> Result<Analysis, ImportError> {
         return Err(c.err(ana, "Maxtimestep", "<Analysis> has no <Maxtimestep maxtimestep=\"…\"/>"));
     }
     Ok(a)
+}
+
+/// Why an analysis element that pbdda does not import is skipped (listed in the import's report).
+fn ignored_why(tag: &str) -> &'static str {
+    match tag {
+        "Gravity" => "ntdda's gravity turn-on phase and its tolerances: pbdda applies gravity from t = 0",
+        "Autopenalty" => "penalty number and factor: pbdda has no penalty springs",
+        "AConstants" => {
+            "ntdda's contact constants (open-close, penalty, angle overlap): pbdda's contacts are exact"
+        }
+        "Rotation" => "ntdda's rotation linearisation: pbdda's is its own (math note)",
+        "Mintimestep" => "ntdda's smallest automatic step: pbdda's is [time] step / 2^max_halvings",
+        "Maxdisplacement" => {
+            "ntdda's limit on a step's motion (g2): pbdda limits it by the contact threshold"
+        }
+        "OCLimit" | "Opencloselimit" => "ntdda's open-close iteration limit: pbdda's contacts need none",
+        "Writevertices" => "ntdda's output choice: pbdda writes every body",
+        "Timehistory" => "earthquake ground motion: not imported",
+        "ContactDamping" => "contact damping: pbdda has none",
+        _ => "not an analysis element ntdda reads: skipped as ntdda does",
+    }
 }
 
 fn child_text<'a, 'i>(n: Node<'a, 'i>, name: &str) -> Option<Node<'a, 'i>> {

@@ -49,24 +49,9 @@ impl TriMesh {
 /// `mesh_size` and angles of at least 25 degrees where the block's own corners allow (spade's
 /// refinement); the outline's edges are split as needed and keep their source.
 pub fn mesh_block(block: &Block, mesh_size: f64) -> Result<TriMesh, CutError> {
-    if !mesh_size.is_finite() || mesh_size <= 0.0 {
-        return Err(CutError::Mesh(format!("mesh_size must be positive and finite (got {mesh_size})")));
-    }
     let n = block.vertices.len();
     let max_area = 3f64.sqrt() / 4.0 * mesh_size * mesh_size;
-    let perimeter: f64 = (0..n)
-        .map(|i| {
-            let (p, q) = (block.vertices[i], block.vertices[(i + 1) % n]);
-            (p[0] - q[0]).hypot(p[1] - q[1])
-        })
-        .sum();
-    let expected = 4.0 * block.area / max_area + 4.0 * perimeter / mesh_size + 10.0 * n as f64;
-    if expected.is_nan() || expected > MAX_NODES {
-        return Err(CutError::Mesh(format!(
-            "mesh_size {mesh_size} m would make about {expected:.3e} nodes in a block of area {} m2, above {MAX_NODES:e}",
-            block.area
-        )));
-    }
+    let expected = expected_nodes(block, mesh_size, max_area)?;
     let mut cdt: ConstrainedDelaunayTriangulation<Point2<f64>> = ConstrainedDelaunayTriangulation::new();
     let mut handles = Vec::with_capacity(n);
     for p in &block.vertices {
@@ -128,6 +113,30 @@ pub fn mesh_block(block: &Block, mesh_size: f64) -> Result<TriMesh, CutError> {
     }
     boundary.sort_by_key(|e| e.0);
     Ok(TriMesh { nodes, triangles, boundary })
+}
+
+/// About how many nodes the mesh of `block` will have (an upper estimate from its area and
+/// perimeter); an error when `mesh_size` is not positive and finite or the count passes
+/// `MAX_NODES`.
+fn expected_nodes(block: &Block, mesh_size: f64, max_area: f64) -> Result<f64, CutError> {
+    if !mesh_size.is_finite() || mesh_size <= 0.0 {
+        return Err(CutError::Mesh(format!("mesh_size must be positive and finite (got {mesh_size})")));
+    }
+    let n = block.vertices.len();
+    let perimeter: f64 = (0..n)
+        .map(|i| {
+            let (p, q) = (block.vertices[i], block.vertices[(i + 1) % n]);
+            (p[0] - q[0]).hypot(p[1] - q[1])
+        })
+        .sum();
+    let expected = 4.0 * block.area / max_area + 4.0 * perimeter / mesh_size + 10.0 * n as f64;
+    if expected.is_nan() || expected > MAX_NODES {
+        return Err(CutError::Mesh(format!(
+            "mesh_size {mesh_size} m would make about {expected:.3e} nodes in a block of area {} m2, above {MAX_NODES:e}",
+            block.area
+        )));
+    }
+    Ok(expected)
 }
 
 /// The source of the block edge on which the mesh edge `p`-`q` lies.

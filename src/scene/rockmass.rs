@@ -62,32 +62,86 @@ fn staged(raw: &raw::Scene, x: &raw::Excavation) -> bool {
 
 /// Expands `[domain]` (if any) into `raw.body`; errors name the rock-mass keys.
 pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
-    let mut out = Expansion::default();
     let Some(domain) = &raw.domain else {
-        if let Some(t) = raw.joint_set.first().map(Spanned::span).or(raw.joint.first().map(Spanned::span)) {
-            return fail(t, "joints need a [domain] to cut");
-        }
-        for x in &raw.excavation {
-            let (header, x) = (x.span(), x.get_ref());
-            match (&x.bodies, staged(raw, x)) {
-                (Some(b), true) => {
-                    let names = b.get_ref().iter().map(|n| n.get_ref().clone()).collect();
-                    out.staged.push((x.name.get_ref().clone(), names));
-                }
-                _ => return fail(header, "an [[excavation]] needs a [domain] (or, staged, its `bodies`)"),
-            }
-        }
-        if let Some(r) = raw.region.first() {
-            return fail(r.span(), "a [[region]] needs a [domain]");
-        }
-        return Ok(out);
+        return without_domain(raw);
     };
     let (header, d) = (domain.span(), domain.get_ref());
     let outline = simple_polygon(&d.vertices, "vertices")?;
+    let keys = domain_keys(d, &header)?;
+    let domain_shape = Shape::Polygon { vertices: outline.clone() };
+    let inside = |p: Vec2| domain_shape.contains(p);
+    let joint_sets = joint_sets(raw, &outline)?;
+    let joints = joints(raw, &inside)?;
+    let excavations = excavations(raw, &inside)?;
+    let mut out = Expansion::default();
+    let names = raw.excavation.iter().map(|x| x.get_ref().name.get_ref().clone());
+    let outline_of = |x: &rm::Excavation| x.vertices.iter().map(|v| Vec2::new(v[0], v[1])).collect();
+    out.outlines = names.zip(excavations.iter().map(outline_of)).collect();
+    let spec = rm::CutSpec {
+        domain: outline.iter().map(|v| [v.x, v.y]).collect(),
+        joint_sets,
+        joints,
+        excavations,
+        min_edge: keys.min_edge,
+        seed: keys.seed,
+        block_limit: keys.block_limit,
+    };
+    let cut = rm::cut(&spec).or_else(|e| fail(cut_error_span(raw, &header, &e), e.to_string()))?;
+    out.reports = cut.reports.iter().map(ToString::to_string).collect();
+    let mut generated = block_bodies(raw, d, &header, &keys, &cut.blocks, &mut out)?;
+    fix_points(d, &cut.blocks, &mut generated)?;
+    for (e, x) in raw.excavation.iter().enumerate() {
+        if staged(raw, x.get_ref()) {
+            let inside = cut.blocks.iter().enumerate().filter(|(_, b)| b.excavation == Some(e));
+            let names = inside.map(|(k, _)| out.blocks[k].clone()).collect();
+            out.staged.push((x.get_ref().name.get_ref().clone(), names));
+        }
+    }
+    raw.body.get_mut().extend(generated);
+    Ok(out)
+}
+
+/// A scene without `[domain]`: joints and regions are errors; an excavation is one only when
+/// a stage removes its `bodies`.
+fn without_domain(raw: &raw::Scene) -> Check<Expansion> {
+    if let Some(t) = raw.joint_set.first().map(Spanned::span).or(raw.joint.first().map(Spanned::span)) {
+        return fail(t, "joints need a [domain] to cut");
+    }
+    let mut out = Expansion::default();
+    for x in &raw.excavation {
+        let (header, x) = (x.span(), x.get_ref());
+        match (&x.bodies, staged(raw, x)) {
+            (Some(b), true) => {
+                let names = b.get_ref().iter().map(|n| n.get_ref().clone()).collect();
+                out.staged.push((x.name.get_ref().clone(), names));
+            }
+            _ => return fail(header, "an [[excavation]] needs a [domain] (or, staged, its `bodies`)"),
+        }
+    }
+    if let Some(r) = raw.region.first() {
+        return fail(r.span(), "a [[region]] needs a [domain]");
+    }
+    Ok(out)
+}
+
+/// The `[domain]` keys that shape the cut and its bodies, checked (defaults of scene-format
+/// "Rock masses").
+struct DomainKeys {
+    /// "rigid", "deformable" or "mesh".
+    model: &'static str,
+    mesh_size: Option<f64>,
+    seed: u64,
+    min_edge: f64,
+    block_limit: usize,
+}
+
+fn domain_keys(d: &raw::Domain, header: &Range<usize>) -> Check<DomainKeys> {
     let model = match &d.model {
         None => "rigid",
         Some(m) => match m.get_ref().as_str() {
-            w @ ("rigid" | "deformable" | "mesh") => w,
+            "rigid" => "rigid",
+            "deformable" => "deformable",
+            "mesh" => "mesh",
             other => {
                 let message =
                     format!("model must be \"rigid\", \"deformable\" or \"mesh\" (got \"{other}\")");
@@ -97,7 +151,7 @@ pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
     };
     let mesh_size = match (&d.mesh_size, model) {
         (Some(s), "mesh") => Some(positive(s, "mesh_size")?),
-        (None, "mesh") => return fail(header, "a [domain] with model = \"mesh\" needs `mesh_size`"),
+        (None, "mesh") => return fail(header.clone(), "a [domain] with model = \"mesh\" needs `mesh_size`"),
         (Some(s), _) => return fail(s.span(), "mesh_size is only for model = \"mesh\""),
         (None, _) => None,
     };
@@ -116,40 +170,35 @@ pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
         },
         None => 100_000,
     };
-    let domain_shape = Shape::Polygon { vertices: outline.clone() };
-    let inside = |p: Vec2| domain_shape.contains(p);
-    let joint_sets = joint_sets(raw, &outline)?;
-    let joints = joints(raw, &inside)?;
-    let excavations = excavations(raw, &inside)?;
-    let names = raw.excavation.iter().map(|x| x.get_ref().name.get_ref().clone());
-    let outline_of = |x: &rm::Excavation| x.vertices.iter().map(|v| Vec2::new(v[0], v[1])).collect();
-    out.outlines = names.zip(excavations.iter().map(outline_of)).collect();
-    let spec = rm::CutSpec {
-        domain: outline.iter().map(|v| [v.x, v.y]).collect(),
-        joint_sets,
-        joints,
-        excavations,
-        min_edge,
-        seed,
-        block_limit,
-    };
-    let cut = rm::cut(&spec).or_else(|e| fail(cut_error_span(raw, &header, &e), e.to_string()))?;
-    out.reports = cut.reports.iter().map(ToString::to_string).collect();
+    Ok(DomainKeys { model, mesh_size, seed, min_edge, block_limit })
+}
+
+/// The `[[body]]` tables of the cut's blocks (`blk-N`), recorded in `out` (names, areas,
+/// meshes, edges).
+fn block_bodies(
+    raw: &raw::Scene,
+    d: &raw::Domain,
+    header: &Range<usize>,
+    keys: &DomainKeys,
+    blocks: &[rm::Block],
+    out: &mut Expansion,
+) -> Check<Vec<Spanned<raw::Body>>> {
     let tags = edge_tags(raw);
-    let mut generated = Vec::with_capacity(cut.blocks.len());
-    for (k, block) in cut.blocks.iter().enumerate() {
+    let model = keys.model;
+    let mut generated = Vec::with_capacity(blocks.len());
+    for (k, block) in blocks.iter().enumerate() {
         let name = format!("blk-{}", k + 1);
         let (material, fixed) = region_of(raw, d, block)?;
-        let mut body = block_body(&name, block, material, fixed, &header);
-        body.model = (model != "mesh" && model != "rigid").then(|| at(&header, model.to_owned()));
-        body.edge_interfaces = tagged(&block.edges, &tags, &header);
-        if let Some(size) = mesh_size {
+        let mut body = block_body(&name, block, material, fixed, header);
+        body.model = (model != "mesh" && model != "rigid").then(|| at(header, model.to_owned()));
+        body.edge_interfaces = tagged(&block.edges, &tags, header);
+        if let Some(size) = keys.mesh_size {
             let mesh = rm::mesh_block(block, size).or_else(|e| fail(header.clone(), e.to_string()))?;
             let fe = rm::to_mesh(&mesh, &super::expanded::edge_group, &name)
                 .or_else(|e| fail(header.clone(), e.to_string()))?;
-            body.shape = at(&header, "mesh".to_owned());
+            body.shape = at(header, "mesh".to_owned());
             body.vertices = None;
-            body.edge_interfaces = tagged(&mesh.loop_sources(), &tags, &header);
+            body.edge_interfaces = tagged(&mesh.loop_sources(), &tags, header);
             body.generated_mesh = Some(fe);
             out.meshes.push((name.clone(), mesh));
         }
@@ -159,18 +208,9 @@ pub(super) fn expand(raw: &mut raw::Scene) -> Check<Expansion> {
         }
         out.blocks.push(name);
         out.areas.push(block.area);
-        generated.push(at(&header, body));
+        generated.push(at(header, body));
     }
-    fix_points(d, &cut.blocks, &mut generated)?;
-    for (e, x) in raw.excavation.iter().enumerate() {
-        if staged(raw, x.get_ref()) {
-            let inside = cut.blocks.iter().enumerate().filter(|(_, b)| b.excavation == Some(e));
-            let names = inside.map(|(k, _)| out.blocks[k].clone()).collect();
-            out.staged.push((x.get_ref().name.get_ref().clone(), names));
-        }
-    }
-    raw.body.get_mut().extend(generated);
-    Ok(out)
+    Ok(generated)
 }
 
 /// A simple polygon's vertices (either orientation), counter-clockwise.

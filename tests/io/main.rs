@@ -6,6 +6,7 @@ mod common;
 
 mod api_tables;
 mod cli;
+mod module_graph;
 mod overrides;
 mod plots;
 mod resume_examples;
@@ -16,4 +17,3 @@ mod sweep_mesh;
 mod sweep_plan;
 mod validate;
 mod vtk_output;
-mod module_graph;

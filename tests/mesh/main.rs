@@ -4,6 +4,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod in_situ_stress;
 mod mesh_7_9_undulation;
 mod mesh_connectors;
 mod mesh_convergence;
@@ -15,6 +16,5 @@ mod mesh_rigid_motion;
 mod mesh_scene;
 mod mesh_w_operator;
 mod msh_reader;
-mod tri3_element;
 mod tractions;
-mod in_situ_stress;
+mod tri3_element;

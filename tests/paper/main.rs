@@ -4,6 +4,10 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod adaptive_step;
+mod cold_step;
+mod friction_stop;
+mod mass_ratio;
 mod paper_7_10_particle_chain;
 mod paper_7_1_disk_heap;
 mod paper_7_2_block_staircase;
@@ -15,10 +19,6 @@ mod paper_7_6_sliding_block_cohesion;
 mod paper_7_7_rolling_disk;
 mod paper_7_7_rolling_resistance;
 mod paper_7_8_cemented_interface;
-mod restitution;
-mod friction_stop;
-mod mass_ratio;
 mod penetration_allowance;
-mod adaptive_step;
-mod cold_step;
+mod restitution;
 mod slumping_pile;

@@ -4,16 +4,16 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod bolt_yield;
+mod cemented_bridges;
+mod connector_errors;
+mod connector_mechanics;
+mod connectors_world;
+mod cut_threads;
 mod joint_crossings;
 mod joint_provenance;
-mod cemented_bridges;
-mod cut_threads;
 mod ntdda_import;
 mod rock_mass_scene;
 mod staged_bolts;
 mod staged_examples;
 mod stages;
-mod bolt_yield;
-mod connector_errors;
-mod connector_mechanics;
-mod connectors_world;

@@ -6,16 +6,16 @@ mod common;
 #[path = "../vi_support/mod.rs"]
 mod vi_support;
 
-mod vi_kkt;
-mod vi_networks;
-mod vi_newton;
-mod solver_chain;
-mod solver_methods;
-mod w_operator;
 mod deformable_block_statics;
 mod deformable_bouncing;
 mod deformable_disk_squeeze;
 mod deformable_initial_stress;
 mod deformable_pile;
-mod stiff_deformable;
 mod inverse_block;
+mod solver_chain;
+mod solver_methods;
+mod stiff_deformable;
+mod vi_kkt;
+mod vi_networks;
+mod vi_newton;
+mod w_operator;
