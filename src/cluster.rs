@@ -208,19 +208,7 @@ impl Flexibility {
                 dense::closed_factor(k).ok_or_else(failed)?
             } else {
                 let triplets = k.lower_triplets();
-                // reuse the symbolic analysis of the last factor of this cluster, and its
-                // storage when nothing else holds it
-                let last = self.factors.get_mut(c).filter(|_| !first);
-                let mut sparse = match last {
-                    Some(f) => match Arc::get_mut(f) {
-                        Some(Factor::Sparse(s)) => std::mem::replace(s, SparseFactor::new(0)),
-                        _ => match f.as_ref() {
-                            Factor::Sparse(s) => s.renewed(),
-                            _ => SparseFactor::new(map.cluster_range(c).len()),
-                        },
-                    },
-                    None => SparseFactor::new(map.cluster_range(c).len()),
-                };
+                let mut sparse = self.take_sparse(c, map.cluster_range(c).len(), first);
                 sparse.factorize(&triplets).map_err(|_| failed())?;
                 self.sparse_factorizations += 1;
                 Factor::Sparse(sparse)
@@ -236,6 +224,22 @@ impl Flexibility {
             }
         }
         Ok(())
+    }
+
+    /// The sparse factor to refactorize cluster `c` (`n` DOFs) into: the last one's symbolic
+    /// analysis, and its storage when nothing else holds it (math note §9.8); a new one on the
+    /// first refresh.
+    fn take_sparse(&mut self, c: usize, n: usize, first: bool) -> SparseFactor {
+        match self.factors.get_mut(c).filter(|_| !first) {
+            Some(f) => match Arc::get_mut(f) {
+                Some(Factor::Sparse(s)) => std::mem::replace(s, SparseFactor::new(0)),
+                _ => match f.as_ref() {
+                    Factor::Sparse(s) => s.renewed(),
+                    _ => SparseFactor::new(n),
+                },
+            },
+            None => SparseFactor::new(n),
+        }
     }
 
     /// Keeps cluster `c`'s closed-form K̃⁻¹ over its `n` DOFs in `closed` (a new entry on the

@@ -2,13 +2,8 @@
 //! Cholesky with its kept symbolic analysis and the block of the inverse over the DOFs that
 //! contacts touch ([`SparseFactor`], math note §9.3), used by the clusters' flexibilities
 //! (`crate::cluster`) and by MPRGP's face solves (`crate::vi`).
-//!
-//! The factor's source files are `src/cluster/sparse.rs` and `src/cluster/inverse.rs`, compiled
-//! here as `factor` and `inverse`.
 
-#[path = "../cluster/sparse.rs"]
 mod factor;
-#[path = "../cluster/inverse.rs"]
 pub(crate) mod inverse;
 
 pub use factor::{SparseError, SparseFactor};

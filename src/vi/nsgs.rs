@@ -22,7 +22,7 @@ pub(super) const CHECK_EVERY: usize = 8;
 pub const STALL_SWEEPS: usize = 400;
 /// The share of its budget a run may spend on one plateau: NSGS on a pile that moves sits on
 /// plateaus of up to some 5,000 sweeps before a contact changes state and it converges
-/// (math note §4.8, "Piles that move: the stall guard").
+/// (math note §4.8, "Piles that move").
 pub const STALL_SHARE: usize = 20;
 
 /// Work storage, reused across calls.

@@ -13,13 +13,13 @@
 //! at step 16, 8,080 J by step 30.
 //!
 //! Every step must also meet the solver's tolerance (1e-6). The iterative methods stop short on
-//! 8 of these 40 steps (the first at step 16) (math note §4.8, "Piles that move: two causes"): MPRGP's passes and PC
+//! 8 of these 40 steps (the first at step 16) (math note §4.8, "Piles that move"): MPRGP's passes and PC
 //! do not settle, and NSGS's stall guard gives up on plateaus. Those steps have exact
 //! solutions, which Lemke's method, the last resort on problems of this size, finds (§4.12).
 //!
 //! The same slump of `DiskPile::benchmark(20, 12)` (240 disks, about 700 contacts, 2,756 LCP
 //! variables; E0 = 9,732.29 J, so the bound's 1e-9 of it is still above the allowance's
-//! corrections) checks NSGS's stall guard (§4.7, §4.8 "Piles that move: the stall guard") and
+//! corrections) checks NSGS's stall guard (§4.7, §4.8 "Piles that move") and
 //! Lemke's sparse basis (§4.12, "A sparse basis"). NSGS's plateaus last up to some 5,000 sweeps
 //! before a contact changes state and it converges: with a window of 400 sweeps, 4 of its first
 //! 20 steps ended unconverged (the first at step 12); with a twentieth of the budget every one
