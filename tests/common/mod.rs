@@ -114,3 +114,9 @@ pub fn timoshenko_tip(e: f64, area: f64, inertia: f64, p: f64, l: f64) -> (f64, 
     let g = e / (2.0 * 1.3);
     (p * l.powi(3) / (3.0 * e * inertia) + 1.2 * p * l / (g * area), p * l * l / (2.0 * e * inertia))
 }
+
+/// A CLI error report as one line: miette wraps long messages at 80 columns and draws a margin
+/// (`│`), wherever the message's paths put the breaks.
+pub fn one_line(text: &str) -> String {
+    text.replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+}

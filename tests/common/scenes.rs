@@ -93,3 +93,63 @@ pub fn settling_text() -> String {
     rectangle(&mut s, "slab", 2.0, 9.0, 5.0, 9.6, soft);
     s
 }
+
+/// The bolt pull-out of `tests/rock/bolt_yield.rs` (its header derives the closed form): a
+/// fixed block and a free 1 m² block joined by a bolt of rest length L along x, pulled at the
+/// free block's centroid by the load `history`; no gravity, static relaxation.
+pub mod pull {
+    /// The bolt's Young's modulus [Pa], section [m²], rest length [m] and yield force [N].
+    pub const E: f64 = 1.0e8;
+    pub const AREA: f64 = 0.01;
+    pub const L: f64 = 2.0;
+    pub const Y: f64 = 1.0e4;
+    pub const RHO: f64 = 10.0; // the free block is 1 m² : m = 10 kg
+    /// The step [s].
+    pub const DT: f64 = 0.01;
+
+    /// The scene text: `history` the load's [[t, F]] table, `ultimate` the bolt's
+    /// `ultimate_strain` (none: it never breaks), `steps` steps.
+    pub fn scene(history: &str, ultimate: Option<f64>, steps: usize) -> String {
+        let ultimate = ultimate.map_or(String::new(), |u| format!("ultimate_strain = {u}"));
+        format!(
+            r#"
+[scene]
+name = "pull"
+[time]
+step = {DT}
+steps = {steps}
+adaptive = false
+[physics]
+gravity = [0.0, 0.0]
+velocity_carry = 0.0
+[[material]]
+name = "m"
+density = {RHO}
+[[body]]
+name = "anchor"
+shape = "polygon"
+vertices = [[-1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [-1.0, 1.0]]
+material = "m"
+fixed = true
+[[body]]
+name = "free"
+shape = "polygon"
+vertices = [[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0]]
+material = "m"
+[[load]]
+body = "free"
+point = [1.5, 0.5]
+force = [1.0, 0.0]
+history = {history}
+[[connector]]
+kind = "bolt"
+points = [[-0.5, 0.5], [1.5, 0.5]]
+bodies = ["anchor", "free"]
+young = {E}
+area = {AREA}
+yield_force = {Y}
+{ultimate}
+"#
+        )
+    }
+}

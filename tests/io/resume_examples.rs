@@ -171,7 +171,8 @@ fn kept_factors_resume_bit_for_bit() {
 fn a_yielding_bolt_resumes_and_breaks() {
     let dir = scratch("pull-scene");
     let path = dir.join("pull.toml");
-    fs::write(&path, pull_scene()).expect("scene");
+    fs::write(&path, common::scenes::pull::scene("[[0.0, 0.0], [1.0, 2.0e4]]", Some(0.05), 100))
+        .expect("scene");
     let s = stop_and_resume("pull", &path, &[], 60);
     let bolt = &s.world.connectors[0];
     assert!(bolt.is_yielding() && bolt.plastic_strain > 0.0 && !bolt.broken, "{bolt:?}");
@@ -203,53 +204,10 @@ fn a_run_with_split_steps_resumes() {
     fs::remove_dir_all(&dir).ok();
 }
 
-fn pull_scene() -> String {
-    r#"
-[scene]
-name = "pull"
-[time]
-step = 0.01
-steps = 100
-adaptive = false
-[physics]
-gravity = [0.0, 0.0]
-velocity_carry = 0.0
-[[material]]
-name = "m"
-density = 10.0
-[[body]]
-name = "anchor"
-shape = "polygon"
-vertices = [[-1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [-1.0, 1.0]]
-material = "m"
-fixed = true
-[[body]]
-name = "free"
-shape = "polygon"
-vertices = [[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0]]
-material = "m"
-[[load]]
-body = "free"
-point = [1.5, 0.5]
-force = [1.0, 0.0]
-history = [[0.0, 0.0], [1.0, 2.0e4]]
-[[connector]]
-kind = "bolt"
-points = [[-0.5, 0.5], [1.5, 0.5]]
-bodies = ["anchor", "free"]
-young = 1.0e8
-area = 0.01
-yield_force = 1.0e4
-ultimate_strain = 0.05
-"#
-    .to_owned()
-}
-
 fn fails(args: &[&str]) -> String {
     let o = Command::new(env!("CARGO_BIN_EXE_pbdda")).args(args).output().expect("the binary runs");
     assert!(!o.status.success(), "pbdda {args:?} should fail");
-    // one line: miette wraps long messages and draws a margin
-    String::from_utf8_lossy(&o.stderr).replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+    common::one_line(&String::from_utf8_lossy(&o.stderr))
 }
 
 /// Checkpoints `resume` must refuse, each with the reason: one of format version 1 (which held

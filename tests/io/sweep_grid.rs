@@ -1,5 +1,6 @@
 //! `pbdda sweep` grids and wildcards (src/cli/sweep/, src/scene/overrides.rs).
 
+use crate::common::one_line;
 use pbdda::cli::{Axis, SweepOptions, sweep};
 use pbdda::scene::{Override, parse_with};
 use std::path::Path;
@@ -11,11 +12,6 @@ fn scene(name: &str) -> (String, String) {
 
 fn axis(key: &str, values: &[&str]) -> Axis {
     Axis { key: key.into(), values: values.iter().map(|v| v.to_string()).collect() }
-}
-
-/// An error report as one line: miette wraps long messages and draws a margin.
-fn flat(text: &str) -> String {
-    text.replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
 fn quiet() -> SweepOptions {
@@ -89,10 +85,10 @@ fn wildcard_sets_every_bolt() {
 fn wildcard_matching_nothing_and_wrong_type_are_errors() {
     let (text, file) = scene("7_1_disk_heap.toml");
     let e = sweep(&text, &file, &[], &[axis("connector[*].strength", &["1", "2"])], &quiet()).unwrap_err();
-    let e = flat(&format!("{e:?}"));
+    let e = one_line(&format!("{e:?}"));
     assert!(e.contains("`connector[*]` matches nothing: the scene has no `connector` entries"), "{e}");
     let e = sweep(&text, &file, &[], &[axis("solver.tolerance", &["1e-6", "abc"])], &quiet()).unwrap_err();
-    let e = flat(&format!("{e:?}"));
+    let e = one_line(&format!("{e:?}"));
     assert!(e.contains("case 1 (solver.tolerance=abc)") && e.contains("solver.tolerance"), "{e}");
 }
 

@@ -3,6 +3,7 @@
 //! byte except the wall-time column (the cases are deterministic and their results are stored
 //! with round-trip formatting); bad input is an error naming what is wrong.
 
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -30,8 +31,7 @@ fn ok(args: &[&str]) -> String {
 fn fails(args: &[&str]) -> String {
     let o = pbdda(args);
     assert!(!o.status.success(), "{args:?} should fail");
-    // one line: miette wraps long messages and draws a margin
-    String::from_utf8_lossy(&o.stderr).replace('│', " ").split_whitespace().collect::<Vec<_>>().join(" ")
+    common::one_line(&String::from_utf8_lossy(&o.stderr))
 }
 
 /// sweep.csv without its wall_seconds column.

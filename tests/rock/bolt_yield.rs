@@ -29,57 +29,9 @@
 use pbdda::scene::parse;
 use pbdda::world::{Event, World};
 
-const E: f64 = 1.0e8;
-const AREA: f64 = 0.01;
-const L: f64 = 2.0;
-const Y: f64 = 1.0e4;
-const RHO: f64 = 10.0; // the free block is 1 m² : m = 10 kg
-const DT: f64 = 0.01;
-const TOL: f64 = 1e-9;
+use crate::common::scenes::pull::{AREA, DT, E, L, RHO, Y, scene};
 
-fn scene(history: &str, ultimate: Option<f64>, steps: usize) -> String {
-    let ultimate = ultimate.map_or(String::new(), |u| format!("ultimate_strain = {u}"));
-    format!(
-        r#"
-[scene]
-name = "pull"
-[time]
-step = {DT}
-steps = {steps}
-adaptive = false
-[physics]
-gravity = [0.0, 0.0]
-velocity_carry = 0.0
-[[material]]
-name = "m"
-density = {RHO}
-[[body]]
-name = "anchor"
-shape = "polygon"
-vertices = [[-1.0, 0.0], [0.0, 0.0], [0.0, 1.0], [-1.0, 1.0]]
-material = "m"
-fixed = true
-[[body]]
-name = "free"
-shape = "polygon"
-vertices = [[1.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.0]]
-material = "m"
-[[load]]
-body = "free"
-point = [1.5, 0.5]
-force = [1.0, 0.0]
-history = {history}
-[[connector]]
-kind = "bolt"
-points = [[-0.5, 0.5], [1.5, 0.5]]
-bodies = ["anchor", "free"]
-young = {E}
-area = {AREA}
-yield_force = {Y}
-{ultimate}
-"#
-    )
-}
+const TOL: f64 = 1e-9;
 
 /// The recursion of the module header: state (l, N, ε_p, yielding, broken).
 #[derive(Clone, Copy, Debug)]
