@@ -169,26 +169,18 @@ fn merge_vertices(
     let mut used: Vec<usize> = regions.iter().flat_map(|r| r.verts.iter().copied()).collect();
     used.sort_unstable_by_key(|&v| (rank[v], v));
     used.dedup();
-    let key = |p: [f64; 2]| ((p[0] / tol).floor() as i64, (p[1] / tol).floor() as i64);
-    let dist =
-        |v: usize, w: usize| (positions[v][0] - positions[w][0]).hypot(positions[v][1] - positions[w][1]);
+    let key = |p: [f64; 2]| cell(p, tol);
+    let dist = |v: usize, w: usize| distance(positions, v, w);
     let mut centres: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    // the centres closer than `tol` to v, from the 3 x 3 cells of side `tol` around it
-    let near = |centres: &HashMap<(i64, i64), Vec<usize>>, v: usize| -> Vec<usize> {
-        let (i, j) = key(positions[v]);
-        let cells = (-1..=1).flat_map(|di| (-1..=1).map(move |dj| (i + di, j + dj)));
-        cells.filter_map(|c| centres.get(&c)).flatten().copied().filter(|&c| dist(v, c) < tol).collect()
-    };
     for &v in &used {
-        if near(&centres, v).is_empty() {
+        if near(&centres, positions, tol, v).next().is_none() {
             centres.entry(key(positions[v])).or_default().push(v);
         }
     }
     let mut rep: Vec<usize> = (0..positions.len()).collect();
     let mut taken: HashMap<usize, (usize, f64)> = HashMap::new();
     for &v in &used {
-        let best = near(&centres, v)
-            .into_iter()
+        let best = near(&centres, positions, tol, v)
             .min_by(|&a, &b| rank[a].cmp(&rank[b]).then(dist(v, a).total_cmp(&dist(v, b))).then(a.cmp(&b)));
         if let Some(c) = best.filter(|&c| c != v) {
             rep[v] = c;
@@ -203,6 +195,27 @@ fn merge_vertices(
         reports.push(Report::MergedVertices { count, distance, at: positions[c] });
     }
     rep
+}
+
+/// The merge grid's cell of side `tol` that holds `p`.
+fn cell(p: [f64; 2], tol: f64) -> (i64, i64) {
+    ((p[0] / tol).floor() as i64, (p[1] / tol).floor() as i64)
+}
+
+fn distance(positions: &[[f64; 2]], v: usize, w: usize) -> f64 {
+    (positions[v][0] - positions[w][0]).hypot(positions[v][1] - positions[w][1])
+}
+
+/// The centres closer than `tol` to vertex `v`, from the 3 x 3 cells around it.
+fn near<'a>(
+    centres: &'a HashMap<(i64, i64), Vec<usize>>,
+    positions: &'a [[f64; 2]],
+    tol: f64,
+    v: usize,
+) -> impl Iterator<Item = usize> + 'a {
+    let (i, j) = cell(positions[v], tol);
+    let cells = (-1..=1).flat_map(move |di| (-1..=1).map(move |dj| (i + di, j + dj)));
+    cells.filter_map(|c| centres.get(&c)).flatten().copied().filter(move |&c| distance(positions, v, c) < tol)
 }
 
 /// Drops edges whose ends merged and splits a loop that now touches itself into simple loops.
