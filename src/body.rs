@@ -444,6 +444,42 @@ impl Body {
         }
     }
 
+    /// The geometry contact detection would see after the step's increment, without moving
+    /// the body: `d` is the body's part of the global d̄ (as [`Self::apply_increment`] and
+    /// [`Self::apply_mesh_step`] take it), and the shape has the bits those give it.
+    pub fn moved_shape(&self, d: &[f64]) -> BodyShape {
+        if self.fixed {
+            return self.shape();
+        }
+        if let Some(fe) = &self.mesh {
+            let nodes = fe.moved_nodes(d);
+            let at = |ring: &[usize]| ring.iter().map(|&n| nodes[n]).collect::<Vec<_>>();
+            let vertices = at(&fe.outer);
+            let holes = fe.holes.iter().map(|h| at(h));
+            return BodyShape::Polygon {
+                convex: loop_contact_flags(&vertices),
+                vertices,
+                nodes: true,
+                holes: holes.map(|v| HoleLoop { convex: loop_contact_flags(&v), vertices: v }).collect(),
+            };
+        }
+        let d = Dofs::from_fn(|i, _| d.get(i).copied().unwrap_or(0.0));
+        let center = self.centroid + Vec2::new(d[0], d[1]);
+        let grow = 1.0 + self.strain_of(&d)[0];
+        match &self.outline {
+            Outline::Disk { radius } => BodyShape::Disk { center, radius: radius * grow },
+            Outline::Ring { outer, inner } => {
+                BodyShape::Ring { center, outer: outer * grow, inner: inner * grow }
+            }
+            Outline::Polygon { vertices, convex } => BodyShape::Polygon {
+                vertices: vertices.iter().map(|&v| self.moved_point(v, &d)).collect(),
+                convex: convex.clone(),
+                nodes: false,
+                holes: Vec::new(),
+            },
+        }
+    }
+
     /// The geometry contact detection sees.
     pub fn shape(&self) -> BodyShape {
         match &self.outline {

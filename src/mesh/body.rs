@@ -338,31 +338,51 @@ impl MeshBody {
             self.stress[e] = Vector3::new(turned[(0, 0)], turned[(1, 1)], turned[(0, 1)]) + self.elastic * de;
             self.strain[e] += de;
         }
-        let (t, theta) = if self.has_fixed { (Vec2::zeros(), 0.0) } else { self.rigid_part(dbar) };
-        let c = self.centroid();
+        let (theta, steps) = self.node_steps(dbar);
         let r = rotation(theta);
-        for n in 0..self.nodes.len() {
-            let dofs = self.pattern.dofs(n);
-            if dofs == [None; 2] {
-                continue;
-            }
-            let u = self.node_value(dbar, n);
-            let rel = self.nodes[n] - c;
-            // remainder w = u − t − θ ẑ × r, carried with the rotation
-            let w = u - t - Vec2::new(-theta * rel.y, theta * rel.x);
-            // x' = c + t + R (r + w), as an increment: t + (R - I) r + R w
-            let step = t + (r - Matrix2::identity()) * rel + r * w;
+        for (n, step) in steps {
             self.nodes[n] += step;
             self.displacement[n] += step;
             let v0 = self.node_value(&self.velocity, n) * v0_scale;
             let v1 = r * (self.node_value(dvel, n) * (2.0 / dt) - v0);
-            for (d, v) in dofs.into_iter().zip([v1.x, v1.y]) {
+            for (d, v) in self.pattern.dofs(n).into_iter().zip([v1.x, v1.y]) {
                 if let Some(d) = d {
                     self.velocity[d] = v;
                 }
             }
         }
         self.rotation += theta;
+    }
+}
+
+impl MeshBody {
+    /// The node positions after the increment `dbar` ([`Self::apply`]'s, bit for bit), the
+    /// mesh unchanged.
+    pub fn moved_nodes(&self, dbar: &[f64]) -> Vec<Vec2> {
+        let mut nodes = self.nodes.clone();
+        for (n, step) in self.node_steps(dbar).1 {
+            nodes[n] += step;
+        }
+        nodes
+    }
+
+    /// The rotation θ of the rigid part of `dbar` and the step of each node with DOFs
+    /// (math note §9.4): x' = c + t + R (r + w), with w = u − t − θ ẑ × r the remainder
+    /// carried with the rotation, as the increment t + (R − I) r + R w.
+    fn node_steps(&self, dbar: &[f64]) -> (f64, Vec<(usize, Vec2)>) {
+        let (t, theta) = if self.has_fixed { (Vec2::zeros(), 0.0) } else { self.rigid_part(dbar) };
+        let c = self.centroid();
+        let r = rotation(theta);
+        let steps = (0..self.nodes.len())
+            .filter(|&n| self.pattern.dofs(n) != [None; 2])
+            .map(|n| {
+                let u = self.node_value(dbar, n);
+                let rel = self.nodes[n] - c;
+                let w = u - t - Vec2::new(-theta * rel.y, theta * rel.x);
+                (n, t + (r - Matrix2::identity()) * rel + r * w)
+            })
+            .collect();
+        (theta, steps)
     }
 }
 

@@ -3,18 +3,28 @@
 //! [`World::step`] advances one scene step of length dt. It runs it as one *trial*; a trial
 //! that fails — the VI did not converge (unless `[solver] allow_unconverged`), a displacement
 //! is not finite, a body moved farther than the contact detection could see, or a contact
-//! penetrates deeper than 5 % of d0 and deeper than at the trial's start — is undone (what it
-//! changed was saved as it changed it: [`Undo`]) and the rest of the step is run as trials of
-//! half the length, down to dt / 2^max_halvings. If a trial of the smallest length fails, the
-//! run stops with [`StepError::Failed`], naming the step, the cause and the bodies. Output
-//! times stay on the scene's grid: the record of a split step is the merge of its trials, at
-//! the end of the step, with `dt` the smallest trial length used and an [`Event::StepSplit`]
-//! per halving.
+//! penetrates deeper than 5 % of d0 and deeper than at the trial's start — is dropped and the
+//! rest of the step is run as trials of half the length, down to dt / 2^max_halvings. If a
+//! trial of the smallest length fails, the run stops with [`StepError::Failed`], naming the
+//! step, the cause and the bodies. Output times stay on the scene's grid: the record of a split
+//! step is the merge of its trials, at the end of the step, with `dt` the smallest trial length
+//! used and an [`Event::StepSplit`] per halving.
+//!
+//! A trial computes its outcome as values and commits them into the World once, at its end,
+//! after its last check ([`World::commit`]): the increments of the bodies, the connectors'
+//! breaks, yield switches and end forces ([`Next`]), the DOF map after a break, the joints
+//! that broke, time and the penetration allowance. Its checks read those values: the
+//! penetration check detects contacts on the bodies' shapes moved by the increments
+//! ([`World::moved_shapes`]), without moving the bodies. A failed trial changes no state; its
+//! values are dropped when the next trial starts. The factor cache, the VI solver's step
+//! length and the broad phase's pairs are the step's working memory, not values of a trial:
+//! every trial updates them as it runs, a failed one too.
 
-use super::{Event, StepError, StepRecord, TrackedPoint, World};
+use super::update::Motion;
+use super::{Event, StepError, StepRecord, World};
 use crate::body::{Body, Outline, max_displacement};
 use crate::connector::Connector;
-use crate::contact::ContactKey;
+use crate::contact::{BodyShape, ContactKey};
 use crate::dofs::DofMap;
 use std::collections::HashSet;
 use std::fmt;
@@ -67,32 +77,29 @@ impl From<Trouble> for Failure {
     }
 }
 
-/// What a trial has changed of the state, saved as the trial first changes it (math note
-/// §10.8), so that a failed trial can be undone. The scalars are saved when the trial starts;
-/// each other part by [`World::keep`] just before the trial first changes it, and only while a
-/// later check can still fail the trial. The contact memory is never saved: a trial changes it
-/// last, after its last check: a step whose trials never fail copies nothing (a copy of every
-/// body and of the contact memory is a visible share of a warm step, `benches/step.rs`).
+/// The values of the running trial that its solves read again (math note §10.8): kept in the
+/// World beside the state of the step's start, which they replace only when the trial is
+/// committed ([`World::commit`]). Each trial starts them afresh from the World's.
 #[derive(Clone, Default)]
-pub(super) struct Undo {
-    time: f64,
-    started: bool,
-    allowance: f64,
-    bodies: Option<(Vec<Body>, Vec<TrackedPoint>, Vec<TrackedPoint>)>,
-    connectors: Option<Vec<Connector>>,
-    dofs: Option<DofMap>,
-    broken: Option<HashSet<ContactKey>>,
+pub(super) struct Next {
+    /// The connectors: the step start's with the trial's breaks and yield switches, after the
+    /// update with their forces and anchors at the trial's end.
+    pub connectors: Vec<Connector>,
+    /// The DOF map and clusters after a connector broke in the trial.
+    pub dofs: Option<DofMap>,
+    /// The cemented joints that broke in the trial.
+    pub broken: HashSet<ContactKey>,
 }
 
-/// A part of the state a trial changes ([`World::keep`]).
-#[derive(Debug, Clone, Copy)]
-pub(super) enum Part {
-    /// The bodies and the points that move with them.
-    Bodies,
-    Connectors,
-    Dofs,
-    /// The broken joints.
-    Broken,
+impl Next {
+    /// A trial's values before it has changed anything: the World's connectors `connectors`
+    /// (copied into the storage of the last trial's), the World's DOF map and broken joints.
+    pub(super) fn start(&mut self, connectors: &[Connector]) {
+        self.connectors.clear();
+        self.connectors.extend_from_slice(connectors);
+        self.dofs = None;
+        self.broken.clear();
+    }
 }
 
 impl World {
@@ -110,20 +117,16 @@ impl World {
             let h = dt / (1u64 << level) as f64;
             // time as step × dt at the step's end, not accumulated
             let t1 = if done + 1 == 1 << level { step as f64 * dt } else { t0 + (done + 1) as f64 * h };
-            let (time, started, allowance) = (self.time, self.started, self.allowance);
-            self.undo = (level < most).then(|| Undo { time, started, allowance, ..Undo::default() });
-            let outcome = self.trial(h, t1);
-            match (outcome, self.undo.take()) {
-                (Ok(rec), _) => {
+            match self.trial(h, t1) {
+                Ok(rec) => {
                     merged = Some(match merged {
                         Some(m) => merge(m, rec),
                         None => rec,
                     });
                     done += 1;
                 }
-                (Err(Failure::Fatal(e)), _) => return Err(e),
-                (Err(Failure::Retry(trouble)), Some(undo)) => {
-                    self.restore(undo);
+                Err(Failure::Fatal(e)) => return Err(self.dropped(e)),
+                Err(Failure::Retry(trouble)) if level < most => {
                     (level, done) = (level + 1, done * 2);
                     splits.push(Event::StepSplit {
                         step,
@@ -131,12 +134,12 @@ impl World {
                         cause: trouble.to_string(),
                     });
                 }
-                (Err(Failure::Retry(trouble)), None) => {
+                Err(Failure::Retry(trouble)) => {
                     let hint = match trouble {
                         Trouble::NotConverged { .. } => self.stiff_disks(),
                         _ => None,
                     };
-                    return Err(StepError::Failed { step, dt: h, trouble, hint });
+                    return Err(self.dropped(StepError::Failed { step, dt: h, trouble, hint }));
                 }
             }
         }
@@ -174,49 +177,36 @@ impl World {
         })
     }
 
-    /// Saves `part` into the trial's undo, unless it is saved already or the trial cannot be
-    /// undone (no retry left, or no check left that could fail it).
-    pub(super) fn keep(&mut self, part: Part) {
-        let Some(u) = &mut self.undo else { return };
-        match part {
-            Part::Bodies => {
-                u.bodies.get_or_insert_with(|| {
-                    (self.bodies.clone(), self.load_points.clone(), self.monitors.clone())
-                });
-            }
-            Part::Connectors => {
-                u.connectors.get_or_insert_with(|| self.connectors.clone());
-            }
-            Part::Dofs => {
-                u.dofs.get_or_insert_with(|| self.dofs.clone());
-            }
-            Part::Broken => {
-                u.broken.get_or_insert_with(|| self.broken.clone());
-            }
-        }
+    /// Drops the values of the trial that failed with `e` (the World stays at the step's start).
+    fn dropped(&mut self, e: StepError) -> StepError {
+        self.next.start(&[]);
+        e
     }
 
-    fn restore(&mut self, u: Undo) {
-        (self.time, self.started, self.allowance) = (u.time, u.started, u.allowance);
-        if let Some((bodies, load_points, monitors)) = u.bodies {
-            (self.bodies, self.load_points, self.monitors) = (bodies, load_points, monitors);
-        }
-        if let Some(connectors) = u.connectors {
-            self.connectors = connectors;
-        }
-        if let Some(dofs) = u.dofs {
+    /// Commits the values of a trial that passed its checks (module docs), as one step from
+    /// the step's start: the trial's DOF map, its connectors with their forces and anchors
+    /// after `motion` ([`Self::update_connectors`], step `step`), its broken joints, the
+    /// penetration allowance `allowance`, the bodies and tracked points moved by `motion` over
+    /// the trial's length `dt` ([`Self::update`]), time `t1`. Returns the bodies' kinetic
+    /// energy after it.
+    pub(super) fn commit(&mut self, motion: &Motion, step: usize, dt: f64, t1: f64, allowance: f64) -> f64 {
+        if let Some(dofs) = self.next.dofs.take() {
             self.dofs = dofs;
         }
-        if let Some(broken) = u.broken {
-            self.broken = broken;
-        }
+        self.update_connectors(&motion.dbar, step);
+        std::mem::swap(&mut self.connectors, &mut self.next.connectors);
+        self.broken.extend(self.next.broken.drain());
+        self.allowance = allowance;
+        let kinetic = self.update(motion, dt);
+        (self.time, self.started) = (t1, true);
+        kinetic
     }
 
     /// Per body, the largest motion of a point under the increment `dbar`, from the bodies'
     /// reaches `reach` (`Detected::reach`; a mesh's motion is its fastest node's).
     pub(super) fn motions(&self, reach: &[Option<f64>], dbar: &[f64]) -> Vec<f64> {
         let motion = |b: usize, reach: Option<f64>| {
-            let d = &dbar[self.dofs.range(b)];
+            let d = &dbar[self.dof_map().range(b)];
             reach.map_or_else(|| self.bodies[b].max_motion(d), |r| max_displacement(d, r))
         };
         reach.iter().enumerate().map(|(b, &r)| motion(b, r)).collect()
@@ -250,7 +240,17 @@ impl World {
         !motions.iter().all(|&m| m <= 0.5e-3 * limit)
     }
 
-    /// The first contact of the current configuration that penetrates deeper than 5 % of d0
+    /// The bodies' shapes and fixed flags as contact detection reads them, moved by the trial's
+    /// increment `dbar`: the shapes the bodies take when the trial is committed
+    /// ([`Body::moved_shape`]).
+    pub(super) fn moved_shapes(&self, dbar: &[f64]) -> (Vec<BodyShape>, Vec<bool>) {
+        let dofs = self.dof_map();
+        let moved = |(b, body): (usize, &Body)| (body.moved_shape(&dbar[dofs.range(b)]), body.fixed);
+        self.bodies.iter().enumerate().map(moved).unzip()
+    }
+
+    /// The first contact of the trial's end configuration (`shapes` and `fixed`:
+    /// [`Self::moved_shapes`]) that penetrates deeper than 5 % of d0
     /// and deeper than at the trial's start (`before`: the trial's contacts, detected sorted by
     /// key, with their start gaps; a start overlap that does not grow, by more than 1e-3 of the
     /// limit, is tolerated, since no shorter step can undo it).
@@ -262,12 +262,12 @@ impl World {
     /// [`Self::may_penetrate`] holds (otherwise no contact can qualify, math note §10.8).
     pub(super) fn new_penetration(
         &self,
+        (shapes, fixed): (Vec<BodyShape>, Vec<bool>),
         before: &super::detect::Geoms,
         threshold: f64,
         cache: &mut crate::contact::broad::PairCache,
     ) -> Option<Trouble> {
         let limit = self.penetration_limit();
-        let (shapes, fixed) = self.shapes_and_fixed();
         let mut pairs = cache.candidate_pairs(&shapes, &fixed, threshold);
         self.without_removed(&mut pairs);
         let found = crate::contact::detect_in(&shapes, pairs, threshold, threshold);

@@ -153,10 +153,10 @@ impl World {
         );
         let mut u_max = 0.0f64;
         for (b, body) in self.bodies.iter().enumerate() {
-            u_max = u_max.max(body.max_motion(&df[self.dofs.range(b)]));
+            u_max = u_max.max(body.max_motion(&df[self.dof_map().range(b)]));
             materials.push(body.material);
             fixed.push(body.fixed);
-            sites.push(Site::of(body, b, &self.dofs));
+            sites.push(Site::of(body, b, self.dof_map()));
             reach.push(body.mesh.is_none().then_some(body.reach));
             shapes.push(body.shape());
             tags.push(self.model.bodies[b].edge_interfaces.as_slice());
@@ -215,7 +215,9 @@ impl World {
     /// set once all contacts are known.
     fn law(&self, g: &ContactGeom, i: &Interface, memory: Option<Memory>, row: usize) -> Law {
         let particle = matches!(g.kind, ContactKind::PP | ContactKind::PB | ContactKind::PL);
-        let intact = !self.broken.contains(&g.key);
+        // the joints broken before the step, or in the running trial
+        let broke = |set: &std::collections::HashSet<_>| !set.is_empty() && set.contains(&g.key);
+        let intact = !broke(&self.broken) && !broke(&self.next.broken);
         Law {
             row,
             friction: i.friction,

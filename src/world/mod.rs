@@ -157,9 +157,9 @@ pub struct World {
     started: bool,
     /// Length of the current trial step (dt, or a fraction of it: `adaptive.rs`).
     h: f64,
-    /// What the current trial has changed, to undo it if it fails (`None` when it cannot be
-    /// repeated: `adaptive.rs`).
-    undo: Option<adaptive::Undo>,
+    /// The running trial's values that its solves read again, committed when it succeeds
+    /// (`adaptive.rs`).
+    next: adaptive::Next,
     pipeline: Pipeline,
 }
 
@@ -202,7 +202,7 @@ impl World {
             allowance: 1e-9 * threshold,
             started: false,
             h: 0.0,
-            undo: None,
+            next: adaptive::Next::default(),
             pipeline: Pipeline::default(),
         };
         world.renumber();
@@ -212,7 +212,8 @@ impl World {
     }
 
     /// One trial of length `dt` ending at time `t1` (`adaptive.rs` repeats failed ones): the
-    /// six stages, top to bottom, then the checks of math note §10.8.
+    /// six stages, top to bottom, computed as values from the step's start, then the checks of
+    /// math note §10.8 on those values, then the commit of a trial that passed them.
     fn trial(&mut self, dt: f64, t1: f64) -> Result<StepRecord, adaptive::Failure> {
         let started = Instant::now();
         let mut clock = Clock(started);
@@ -220,6 +221,7 @@ impl World {
         let step = self.step_index + 1;
         let mut events = Vec::new();
         self.h = dt;
+        self.next.start(&self.connectors);
         let (contacts, solved, motion, threshold) =
             self.stages(dt, t1, &mut clock, &mut stages, &mut events)?;
         let r = &solved.report;
@@ -236,26 +238,22 @@ impl World {
             }
             warnings.push(Warning::Trouble { step, trouble });
         }
-        let may_penetrate = self.may_penetrate(&motion.motions);
-        if !may_penetrate {
-            // no check below can fail the trial: nothing to undo
-            self.undo = None;
-        }
-        self.allowance = self.gap_accuracy(&solved);
-        self.update_connectors(&motion.dbar, step);
-        let mean_kinetic = self.mean_kinetic(&motion.dbar, dt);
-        let kinetic_energy = self.update(&motion, dt);
-        self.time = t1;
-        self.started = true;
-        let mut pairs = std::mem::take(&mut self.pipeline.pairs);
-        let penetration = may_penetrate.then(|| self.new_penetration(&contacts, threshold, &mut pairs));
-        self.pipeline.pairs = pairs;
-        if let Some(trouble) = penetration.flatten() {
-            if adaptive {
-                return Err(trouble.into());
+        if self.may_penetrate(&motion.motions) {
+            let mut pairs = std::mem::take(&mut self.pipeline.pairs);
+            let shapes = self.moved_shapes(&motion.dbar);
+            let penetration = self.new_penetration(shapes, &contacts, threshold, &mut pairs);
+            self.pipeline.pairs = pairs;
+            if let Some(trouble) = penetration {
+                if adaptive {
+                    return Err(trouble.into());
+                }
+                warnings.push(Warning::Trouble { step, trouble });
             }
-            warnings.push(Warning::Trouble { step, trouble });
         }
+        let mean_kinetic = self.mean_kinetic(&motion.dbar, dt);
+        let allowance = self.gap_accuracy(&solved);
+        let kinetic_energy = self.commit(&motion, step, dt, t1, allowance);
+        // the contact memory last: a trial that reaches it has passed every check
         let (records, penetrations) = self.close_contacts(&contacts, &solved, step);
         self.pipeline.recycle(solved.rows);
         if let Some(rows2) = solved.rows2 {
@@ -298,9 +296,10 @@ impl World {
         let step = self.step_index + 1;
         let mut yield_rounds = 0;
         loop {
-            let couplings = self.couplings();
+            let (couplings, damping) = (self.couplings(), self.damping());
+            let dofs = self.next.dofs.as_ref().unwrap_or(&self.dofs);
             self.flex
-                .refresh(&self.dofs, &self.bodies, &couplings, dt, self.damping())
+                .refresh(dofs, &self.bodies, &couplings, dt, damping)
                 .map_err(|source| adaptive::Failure::Fatal(StepError::Singular { step, source }))?;
             let df = self.predict(t1);
             stages.predict += clock.lap();
@@ -329,7 +328,7 @@ impl World {
                 return Ok((found.geoms, solved, motion, threshold));
             }
             events.extend(broke);
-            self.renumber();
+            self.renumber_trial();
         }
     }
 
@@ -343,6 +342,12 @@ impl World {
     /// changed (`[solver] factor_drift` keeps factors: math note §9.3).
     pub fn sparse_factorizations(&self) -> usize {
         self.flex.sparse_factorizations()
+    }
+
+    /// The DOF map the step reads: the running trial's after a connector broke in it
+    /// (`adaptive::Next`), else the World's.
+    fn dof_map(&self) -> &DofMap {
+        self.next.dofs.as_ref().unwrap_or(&self.dofs)
     }
 
     /// The scene's time step (a step may run as shorter trials: `adaptive.rs`).

@@ -161,7 +161,7 @@ impl World {
         clusters.sort_unstable();
         clusters.dedup();
         let kinv = clusters.iter().map(|&c| self.flex.body_inverse(c)).collect::<Option<Vec<_>>>()?;
-        let ranges: Vec<Range<usize>> = clusters.iter().map(|&c| self.dofs.cluster_range(c)).collect();
+        let ranges: Vec<Range<usize>> = clusters.iter().map(|&c| self.dof_map().cluster_range(c)).collect();
         let mut offsets = Vec::with_capacity(ranges.len());
         let mut dofs = 0;
         for r in &ranges {

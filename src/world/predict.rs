@@ -26,12 +26,12 @@ impl World {
                 fb
             })
             .collect();
-        let mut df = vec![0.0; self.dofs.total()];
+        let mut df = vec![0.0; self.dof_map().total()];
         for (load, p) in self.model.loads.iter().zip(&self.load_points) {
             let body: &Body = &self.bodies[load.body];
             let force = load_force(load, t1);
             if let Some(fe) = body.mesh.as_ref().filter(|_| !body.fixed) {
-                fe.add_point_load(&mut df[self.dofs.range(load.body)], p.current, force);
+                fe.add_point_load(&mut df[self.dof_map().range(load.body)], p.current, force);
                 continue;
             }
             f[load.body] += body.shape_row(p.current, Vec2::x()) * force.x
@@ -45,12 +45,12 @@ impl World {
                 Some(fe) => {
                     let v0_scale = self.v0_scale();
                     let fm = fe.step_load(g, v0_scale, dt);
-                    df[self.dofs.range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
+                    df[self.dof_map().range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
                 }
-                None => self.dofs.scatter_add(&mut df, b, fb),
+                None => self.dof_map().scatter_add(&mut df, b, fb),
             }
         }
-        self.flex.solve_in_place(&self.dofs, &mut df);
+        self.flex.solve_in_place(self.dof_map(), &mut df);
         df
     }
 }
@@ -66,7 +66,7 @@ impl World {
                 continue;
             }
             if let Some(fe) = &body.mesh {
-                let range = self.dofs.range(tr.body);
+                let range = self.dof_map().range(tr.body);
                 for (a, b, s, force) in tr.forces(|n| fe.nodes[n], t1) {
                     for (node, w) in [(a, 1.0 - s), (b, s)] {
                         for (d, c) in fe.pattern.dofs(node).into_iter().zip(0..2) {

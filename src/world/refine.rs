@@ -86,7 +86,7 @@ impl World {
         shapes: &mut Shapes,
     ) -> Option<Refined> {
         let near = 0.1 * self.threshold;
-        let full = |b: usize| self.dofs.gather(dbar, b);
+        let full = |b: usize| self.dof_map().gather(dbar, b);
         // math note §10.1: below this reach, what the refinement can change is far below its
         // stop criterion
         let still = (SETTLED * self.threshold * self.feature).sqrt();

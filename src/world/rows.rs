@@ -141,7 +141,7 @@ impl World {
         let w = delassus::ContactOperator::with_scratch(
             jac,
             &self.flex,
-            &self.dofs,
+            self.dof_map(),
             limit,
             bodies,
             &mut scratch.assembly,
@@ -164,8 +164,8 @@ impl World {
         let (n, tau, r) = (l.normal, cw(l.normal), c.row());
         for ((body, sign), x) in c.bodies().into_iter().zip([1.0, -1.0]).zip(l.anchor) {
             let b = &self.bodies[body];
-            let Some(cluster) = self.dofs.cluster_of(body) else { continue };
-            let range = self.dofs.range(body);
+            let Some(cluster) = self.dof_map().cluster_of(body) else { continue };
+            let range = self.dof_map().range(body);
             let len = range.len();
             // (a body of 3 DOFs is rigid, never a mesh, whose DOFs come in pairs: its `mesh`
             // field stays unread)

@@ -120,7 +120,6 @@ impl World {
         (world.dofs, world.stage, world.memory) = (s.dofs, s.stage, s.memory);
         world.broken = s.broken.into_iter().collect();
         world.pipeline.vi.set_step_length(s.step_length);
-        world.undo = None;
         world.stage_settings();
         Ok(world)
     }

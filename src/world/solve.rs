@@ -523,7 +523,7 @@ impl World {
         for c in &found.brief {
             let r = c.row();
             if !impacting[r] && state.gaps[r] + dg[r] < -self.allowance {
-                c.bodies().iter().for_each(|&b| dimp[self.dofs.range(b)].fill(0.0));
+                c.bodies().iter().for_each(|&b| dimp[self.dof_map().range(b)].fill(0.0));
             }
         }
     }
@@ -531,14 +531,14 @@ impl World {
     /// K̃⁻¹ Bᵀ z over the rows `keep` selects, all of them with `None` (paper eq. 22: d^p = K⁻¹
     /// C p).
     pub(super) fn response(&self, rows: &Rows, z: &[f64], keep: Option<&[bool]>) -> Vec<f64> {
-        let mut out = vec![0.0; self.dofs.total()];
+        let mut out = vec![0.0; self.dof_map().total()];
         // every row kept, each on a body in body form: through W's bodies (their frames, a third
         // of B's bytes, and on a large pile both cores)
         if keep.is_none() && rows.w.response(z, &mut out) {
             return out;
         }
         rows.jac().transpose_apply(z, |r| keep.is_none_or(|k| k[r]), &mut out);
-        self.flex.solve_in_place(&self.dofs, &mut out);
+        self.flex.solve_in_place(self.dof_map(), &mut out);
         out
     }
 }

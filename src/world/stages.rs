@@ -227,7 +227,7 @@ impl World {
         }
         let (mut energy, mut mass) = (0.0, 0.0);
         for (b, body) in self.bodies.iter().enumerate().filter(|(_, b)| !b.fixed) {
-            let d = &dbar[self.dofs.range(b)];
+            let d = &dbar[self.dof_map().range(b)];
             mass += body.mass;
             energy += match &body.mesh {
                 Some(fe) => {

@@ -1,6 +1,5 @@
 //! Stage 5 (update the bodies, breakage, contact memory) and the contact part of stage 6.
 
-use super::adaptive::Part;
 use super::detect::Geoms;
 use super::solve::{Increment, Solved};
 use super::{ContactRecord, ContactState, Event, Warning, World};
@@ -34,7 +33,7 @@ impl World {
         }
         let bad: Vec<String> = (0..self.bodies.len())
             .filter(|&b| {
-                let r = self.dofs.range(b);
+                let r = self.dof_map().range(b);
                 !m.dbar[r.clone()].iter().chain(&m.dvel[r]).all(|x| x.is_finite())
             })
             .map(|b| self.bodies[b].name.clone())
@@ -47,7 +46,6 @@ impl World {
     /// after it, summed in body order while each body is at hand (a pass of its own over the
     /// bodies would stream them from memory again on a large pile).
     pub(super) fn update(&mut self, m: &Motion, dt: f64) -> f64 {
-        self.keep(Part::Bodies);
         // a body's d̄ (none for a mesh, which moves by its nodes); gathered where it is used, not
         // into a table per body, as v0
         let dofs = &self.dofs;
@@ -116,11 +114,12 @@ impl World {
         broken
     }
 
+    /// The joints of `contacts` that `broken` marks break in the running trial (its
+    /// `adaptive::Next`), with their events.
     pub(super) fn breakage_events(&mut self, contacts: &Geoms, broken: &[bool], step: usize) -> Vec<Event> {
-        self.keep(Part::Broken);
         let mut events = Vec::new();
         for (c, _) in contacts.iter().zip(broken).filter(|(_, b)| **b) {
-            self.broken.insert(c.key);
+            self.next.broken.insert(c.key);
             events.push(Event::JointBroke {
                 step,
                 body_a: self.bodies[c.a].name.clone(),

@@ -90,15 +90,15 @@ impl World {
 
     /// v0 of the coming step as a global DOF vector ([`World::v0`]; a mesh's per node).
     fn start_velocities(&self) -> Vec<f64> {
-        let mut v = vec![0.0; self.dofs.total()];
+        let mut v = vec![0.0; self.dof_map().total()];
         let scale = self.v0_scale();
         for (b, body) in self.bodies.iter().enumerate().filter(|(_, b)| !b.fixed) {
             match &body.mesh {
                 Some(fe) => {
-                    let r = self.dofs.range(b);
+                    let r = self.dof_map().range(b);
                     v[r].iter_mut().zip(&fe.velocity).for_each(|(x, u)| *x = u * scale);
                 }
-                None => self.dofs.scatter_add(&mut v, b, &self.v0(body)),
+                None => self.dof_map().scatter_add(&mut v, b, &self.v0(body)),
             }
         }
         v

@@ -141,12 +141,13 @@ fn unconverged_steps_fail_unless_allowed() {
     assert!(rec.warnings.iter().any(|w| matches!(w, Warning::NotConverged { .. })), "{:?}", rec.warnings);
 }
 
-/// Math note §10.8: a failed trial is undone. Over its first 80 steps the `settling` scene splits
-/// some steps once: their first trial of 0.01 s ends penetrating, a check made after the bodies
-/// have moved. Each such step must leave every body where two fixed steps of 0.005 s from a copy
-/// of the step's start leave it, bit for bit (positions, rotations, velocities, strains): they
-/// are the same two trials, so they agree only if the undo put back everything the failed trial
-/// changed. A body left where the failed trial moved it would be off by that trial's motion.
+/// Math note §10.8: a failed trial's values are dropped. Over its first 80 steps the `settling`
+/// scene splits some steps once: their first trial of 0.01 s ends penetrating, a check made on
+/// the bodies' moved shapes. Each such step must leave every body where two fixed steps of
+/// 0.005 s from a copy of the step's start leave it, bit for bit (positions, rotations,
+/// velocities, strains): they are the same two trials, so they agree only if the failed trial
+/// changed nothing of the state. A body left where the failed trial moved it would be off by
+/// that trial's motion.
 #[test]
 fn a_split_step_is_its_two_halves() {
     let mut world = World::new(settling());
