@@ -205,8 +205,9 @@ impl World {
     /// Per body, the largest motion of a point under the increment `dbar`, from the bodies'
     /// reaches `reach` (`Detected::reach`; a mesh's motion is its fastest node's).
     pub(super) fn motions(&self, reach: &[Option<f64>], dbar: &[f64]) -> Vec<f64> {
+        let dofs = self.dof_map();
         let motion = |b: usize, reach: Option<f64>| {
-            let d = &dbar[self.dof_map().range(b)];
+            let d = &dbar[dofs.range(b)];
             reach.map_or_else(|| self.bodies[b].max_motion(d), |r| max_displacement(d, r))
         };
         reach.iter().enumerate().map(|(b, &r)| motion(b, r)).collect()

@@ -151,12 +151,12 @@ impl World {
             Vec::with_capacity(bodies),
             Vec::with_capacity(bodies),
         );
-        let mut u_max = 0.0f64;
+        let (mut u_max, dofs) = (0.0f64, self.dof_map());
         for (b, body) in self.bodies.iter().enumerate() {
-            u_max = u_max.max(body.max_motion(&df[self.dof_map().range(b)]));
+            u_max = u_max.max(body.max_motion(&df[dofs.range(b)]));
             materials.push(body.material);
             fixed.push(body.fixed);
-            sites.push(Site::of(body, b, self.dof_map()));
+            sites.push(Site::of(body, b, dofs));
             reach.push(body.mesh.is_none().then_some(body.reach));
             shapes.push(body.shape());
             tags.push(self.model.bodies[b].edge_interfaces.as_slice());

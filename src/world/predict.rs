@@ -39,18 +39,19 @@ impl World {
         }
         self.add_traction_loads(t1, &mut f, &mut df);
         self.add_connector_loads(&mut df);
+        let dofs = self.dof_map();
         for (b, fb) in f.iter().enumerate() {
             match self.bodies[b].mesh.as_ref().filter(|_| !self.bodies[b].fixed) {
                 // a mesh body's load (math note §9.1)
                 Some(fe) => {
                     let v0_scale = self.v0_scale();
                     let fm = fe.step_load(g, v0_scale, dt);
-                    df[self.dof_map().range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
+                    df[dofs.range(b)].iter_mut().zip(fm).for_each(|(x, v)| *x += v);
                 }
-                None => self.dof_map().scatter_add(&mut df, b, fb),
+                None => dofs.scatter_add(&mut df, b, fb),
             }
         }
-        self.flex.solve_in_place(self.dof_map(), &mut df);
+        self.flex.solve_in_place(dofs, &mut df);
         df
     }
 }

@@ -225,9 +225,9 @@ impl World {
         if self.model.stages.is_empty() {
             return 0.0;
         }
-        let (mut energy, mut mass) = (0.0, 0.0);
+        let (mut energy, mut mass, dofs) = (0.0, 0.0, self.dof_map());
         for (b, body) in self.bodies.iter().enumerate().filter(|(_, b)| !b.fixed) {
-            let d = &dbar[self.dof_map().range(b)];
+            let d = &dbar[dofs.range(b)];
             mass += body.mass;
             energy += match &body.mesh {
                 Some(fe) => {

@@ -90,15 +90,16 @@ impl World {
 
     /// v0 of the coming step as a global DOF vector ([`World::v0`]; a mesh's per node).
     fn start_velocities(&self) -> Vec<f64> {
-        let mut v = vec![0.0; self.dof_map().total()];
+        let dofs = self.dof_map();
+        let mut v = vec![0.0; dofs.total()];
         let scale = self.v0_scale();
         for (b, body) in self.bodies.iter().enumerate().filter(|(_, b)| !b.fixed) {
             match &body.mesh {
                 Some(fe) => {
-                    let r = self.dof_map().range(b);
+                    let r = dofs.range(b);
                     v[r].iter_mut().zip(&fe.velocity).for_each(|(x, u)| *x = u * scale);
                 }
-                None => self.dof_map().scatter_add(&mut v, b, &self.v0(body)),
+                None => dofs.scatter_add(&mut v, b, &self.v0(body)),
             }
         }
         v
