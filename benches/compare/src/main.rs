@@ -24,6 +24,7 @@
 //! `-- trade [DT...]`: the moving scenes of issue 55 and their speed/accuracy trade
 //! (`moving.rs`). `-- methods`: the 1,000-disk pile with each VI method at tolerances 1e-6 and
 //! 1e-8. `-- stops`: the cost of friction stops (math note §10.15) on slumping and settled piles.
+//! `-- paired SCENE CONFIG...`: the configurations on the same problems, step by step.
 
 mod moving;
 mod scenes;
@@ -334,6 +335,10 @@ fn main() {
     }
     if args.get(1).is_some_and(|a| a == "long") {
         return long_run(&args[2..]);
+    }
+    if args.get(1).is_some_and(|a| a == "paired") {
+        let configs: Vec<moving::Config> = args[3..].iter().map(|c| moving::Config::parse(c)).collect();
+        return moving::paired(&args[2], &configs);
     }
     if args.get(1).is_some_and(|a| a == "moving") {
         return moving_args(&args[2..]);

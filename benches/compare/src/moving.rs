@@ -330,3 +330,46 @@ pub fn trade(dts: &[f64]) {
         }
     }
 }
+
+/// `paired SCENE CONFIG...`: the trajectory of the first configuration (`Config::parse`), and
+/// from each of its steps' start states one step with each other configuration, on a copy of
+/// the world: a comparison on the same problems, which a collapse's diverging trajectories do
+/// not give. Per step on stderr and in total on stdout: iterations, wall time, the method that
+/// answered, unconverged steps (tolerance `PBDDA_TOL`).
+pub fn paired(key: &str, configs: &[Config]) {
+    let scene = scene_of(key).unwrap_or_else(|| panic!("unknown scene {key}: one of {SCENES:?}"));
+    let world = |cfg: &Config| {
+        let mut model = scene.model(tolerance());
+        model.solver.method = cfg.method;
+        let mut w = World::new(model);
+        w.settings.friction_stops = cfg.stops;
+        w.settings.contact_records = false;
+        w
+    };
+    let mut w = world(&configs[0]);
+    // (iterations, seconds, unconverged) per configuration
+    let mut total = vec![(0usize, 0.0f64, 0usize); configs.len()];
+    for step in 1..=scene.steps {
+        let mut line = format!("step {step}");
+        for (k, cfg) in configs.iter().enumerate().rev() {
+            let mut copy = (k > 0).then(|| {
+                let mut c = w.clone();
+                c.model.solver.method = cfg.method;
+                c.settings.friction_stops = cfg.stops;
+                c
+            });
+            let t = Instant::now();
+            let rec = copy.as_mut().unwrap_or(&mut w).step().expect("pbdda step");
+            let seconds = t.elapsed().as_secs_f64();
+            let method = rec.method.map_or("-", |m| m.name());
+            let conv = if rec.converged { "" } else { " unconverged" };
+            line += &format!(" | {} it {method} {:.0} ms{conv}", rec.inner_iterations, seconds * 1e3);
+            let t = &mut total[k];
+            (t.0, t.1, t.2) = (t.0 + rec.inner_iterations, t.1 + seconds, t.2 + usize::from(!rec.converged));
+        }
+        eprintln!("{line}");
+    }
+    for (cfg, (it, seconds, unconverged)) in configs.iter().zip(total) {
+        println!("{}: {it} iterations, {seconds:.1} s, {unconverged} unconverged", cfg.label(tolerance()));
+    }
+}
