@@ -17,7 +17,8 @@
 //! `checkpoint`, `output`, `generate`, `rockmass`, `ntdda`; `scene`; `cli`, `api`.
 //!
 //! Threads: one pool, micropool's global pool (`micropool::join`: the VI's sweeps, the body
-//! form's product, narrow-phase detection, a step's CSV rows). rayon is not used: its `join` from
+//! form's product, narrow-phase detection, a step's CSV rows, the contact block's forward solves
+//! beside its Gram products, math note §9.8). rayon is not used: its `join` from
 //! the stepping thread parks the caller, which costs more than a sweep's half on two cores
 //! (`src/vi/par.rs`, math note §3.3). Factorizations run sequentially.
 //!

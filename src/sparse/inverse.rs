@@ -14,6 +14,8 @@ use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::{Accum, Mat, MatRef, Par};
 use std::collections::HashMap;
+use std::sync::Mutex;
+use std::sync::mpsc::Sender;
 
 /// No parent: a root of the elimination tree.
 const ROOT: usize = usize::MAX;
@@ -160,7 +162,10 @@ fn scatter(
 
 impl InverseCache {
     /// Adds the DOFs `new` (distinct, none in S yet) to S: their forward solves along their
-    /// paths, then their entries against S (old members and each other) group by group.
+    /// paths, then their entries against S (old members and each other) group by group. The
+    /// two run at once on the pool's two threads ([`pipeline`], math note §9.8): a group's
+    /// pieces are final once the forward pass has passed it, and go to the products in the
+    /// pass's order, so every entry is the same sum in the same order as one after the other.
     pub(super) fn extend(
         &mut self,
         tree: &Tree,
@@ -169,61 +174,110 @@ impl InverseCache {
         new: &[usize],
     ) {
         let (groups, members) = paths(tree, new);
-        let size = |g: usize| tree.start[g + 1] - tree.start[g];
-        let mut pieces: Vec<Mat<f64>> =
-            groups.iter().zip(&members).map(|(&g, m)| Mat::zeros(size(g), m.len())).collect();
-        for (j, &d) in new.iter().enumerate() {
-            let p = tree.pos[d];
-            let u = groups.binary_search(&tree.group_of[p]).expect("on its path");
-            let c = members[u].binary_search(&j).expect("on its path");
-            pieces[u][(p - tree.start[groups[u]], c)] = 1.0;
-        }
-        for u in 0..groups.len() {
-            let group = tree.group(symbolic, values, groups[u]);
-            let (done, rest) = pieces.split_at_mut(u + 1);
-            let x = &mut done[u];
-            solve_lower_triangular_in_place(group.top, x.as_mut(), Par::Seq);
-            if group.rows.is_empty() {
-                continue;
-            }
-            let mut update = Mat::<f64>::zeros(group.rows.len(), x.ncols());
-            matmul(update.as_mut(), Accum::Replace, group.below, x.as_ref(), 1.0, Par::Seq);
-            scatter(tree, &groups, &members, u, group.rows, &update, rest);
-        }
-        self.gram(new, &groups, &members, pieces);
-    }
-
-    /// The new members' rows of the block, `Σ_s Y_sᵀ [Y_s^old, Y_s^new]` over the groups on
-    /// their paths (ascending), then their pieces kept in the panels.
-    fn gram(&mut self, new: &[usize], groups: &[usize], members: &[Vec<usize>], pieces: Vec<Mat<f64>>) {
         let known = self.lower.len();
         for (j, &d) in new.iter().enumerate() {
             self.slot.insert(d, known + j);
             self.lower.push(vec![0.0; known + j + 1]);
         }
-        for ((&g, m), x) in groups.iter().zip(members).zip(pieces) {
-            let panel = self.panels.entry(g).or_default();
-            let old = panel.slots.len();
-            let rows = x.nrows();
-            let y_old = MatRef::from_column_major_slice(&panel.values, rows, old);
-            // column c: the products of the c-th new piece with the old pieces, then with the new
-            let mut cross = Mat::<f64>::zeros(old + m.len(), m.len());
-            let (mut with_old, mut with_new) = cross.as_mut().split_at_row_mut(old);
-            matmul(with_old.as_mut(), Accum::Replace, y_old.transpose(), x.as_ref(), 1.0, Par::Seq);
-            matmul(with_new.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, Par::Seq);
-            for (c, &j) in m.iter().enumerate() {
-                let (row, column) = (&mut self.lower[known + j], cross.col_as_slice(c));
-                for (&b, &v) in panel.slots.iter().zip(column) {
-                    row[b] += v;
+        let (done, finished) = std::sync::mpsc::channel::<Mat<f64>>();
+        let (groups, members) = (&groups, &members);
+        let this = &mut *self;
+        pipeline(
+            move || forward(tree, symbolic, values, groups, members, new, done),
+            move || {
+                for (u, x) in finished.iter().enumerate() {
+                    this.gram(known, groups[u], &members[u], x);
                 }
-                for (&j2, &v) in m[..=c].iter().zip(&column[old..]) {
-                    row[known + j2] += v;
-                }
+            },
+        );
+    }
+
+    /// The new members' rows of the block from group `g`'s pieces `x` of the new members `m`
+    /// (indices in the batch after the `known` members): `Y_gᵀ [Y_g^old, Y_g^new]` added to
+    /// them, then the pieces kept in the group's panel.
+    fn gram(&mut self, known: usize, g: usize, m: &[usize], x: Mat<f64>) {
+        let panel = self.panels.entry(g).or_default();
+        let old = panel.slots.len();
+        let rows = x.nrows();
+        let y_old = MatRef::from_column_major_slice(&panel.values, rows, old);
+        // column c: the products of the c-th new piece with the old pieces, then with the new
+        let mut cross = Mat::<f64>::zeros(old + m.len(), m.len());
+        let (mut with_old, mut with_new) = cross.as_mut().split_at_row_mut(old);
+        matmul(with_old.as_mut(), Accum::Replace, y_old.transpose(), x.as_ref(), 1.0, Par::Seq);
+        matmul(with_new.as_mut(), Accum::Replace, x.transpose(), x.as_ref(), 1.0, Par::Seq);
+        for (c, &j) in m.iter().enumerate() {
+            let (row, column) = (&mut self.lower[known + j], cross.col_as_slice(c));
+            for (&b, &v) in panel.slots.iter().zip(column) {
+                row[b] += v;
             }
-            panel.slots.extend(m.iter().map(|j| known + j));
-            for c in 0..x.ncols() {
-                panel.values.extend(x.col(c).iter());
+            for (&j2, &v) in m[..=c].iter().zip(&column[old..]) {
+                row[known + j2] += v;
             }
         }
+        panel.slots.extend(m.iter().map(|j| known + j));
+        for c in 0..x.ncols() {
+            panel.values.extend(x.col(c).iter());
+        }
     }
+}
+
+/// The forward solves of the new DOFs along their paths, group by group in ascending order
+/// (a child before its parent): each group's pieces are solved with its diagonal block, their
+/// product with the rows below is subtracted from the ancestors' pieces ([`scatter`]), and
+/// they are sent on `done`, final, in the groups' order.
+fn forward(
+    tree: &Tree,
+    symbolic: &SymbolicCholesky<usize>,
+    values: &[f64],
+    groups: &[usize],
+    members: &[Vec<usize>],
+    new: &[usize],
+    done: Sender<Mat<f64>>,
+) {
+    let size = |g: usize| tree.start[g + 1] - tree.start[g];
+    let mut pieces: Vec<Mat<f64>> =
+        groups.iter().zip(members).map(|(&g, m)| Mat::zeros(size(g), m.len())).collect();
+    for (j, &d) in new.iter().enumerate() {
+        let p = tree.pos[d];
+        let u = groups.binary_search(&tree.group_of[p]).expect("on its path");
+        let c = members[u].binary_search(&j).expect("on its path");
+        pieces[u][(p - tree.start[groups[u]], c)] = 1.0;
+    }
+    for u in 0..groups.len() {
+        let group = tree.group(symbolic, values, groups[u]);
+        let (head, rest) = pieces.split_at_mut(u + 1);
+        let x = &mut head[u];
+        solve_lower_triangular_in_place(group.top, x.as_mut(), Par::Seq);
+        if !group.rows.is_empty() {
+            let mut update = Mat::<f64>::zeros(group.rows.len(), x.ncols());
+            matmul(update.as_mut(), Accum::Replace, group.below, x.as_ref(), 1.0, Par::Seq);
+            scatter(tree, groups, members, u, group.rows, &update, rest);
+        }
+        // the receiver ends only with the pass; a send cannot fail before
+        let _ = done.send(std::mem::replace(x, Mat::new()));
+    }
+}
+
+/// Runs `produce` and `consume` on the pool's two threads (`micropool::join`), `consume`
+/// waiting for what `produce` sends it. Whichever closure the pool starts first takes the
+/// producer's part, so on one thread (or when the pool runs its two closures one after the
+/// other) the producer runs to its end first and nothing waits for a closure that has not
+/// started.
+fn pipeline(produce: impl FnOnce() + Send, consume: impl FnOnce() + Send) {
+    let roles = Mutex::new((Some(produce), Some(consume)));
+    let run = || {
+        let role = {
+            let mut roles = roles.lock().unwrap_or_else(|e| e.into_inner());
+            match roles.0.take() {
+                Some(p) => Ok(p),
+                None => Err(roles.1.take()),
+            }
+        };
+        match role {
+            Ok(p) => p(),
+            Err(Some(c)) => c(),
+            Err(None) => {}
+        }
+    };
+    micropool::join(run, run);
 }
