@@ -44,6 +44,20 @@ impl Config {
         Config { method, stops }
     }
 
+    /// Sets this configuration's method and friction-stop rule on `w`.
+    pub fn apply(&self, w: &mut World) {
+        w.model.solver.method = self.method;
+        w.settings.friction_stops = self.stops;
+    }
+
+    /// `scene` at tolerance `tol` with this configuration, no contact records.
+    pub fn world(&self, scene: &Scene, tol: f64) -> World {
+        let mut w = World::new(scene.model(tol));
+        self.apply(&mut w);
+        w.settings.contact_records = false;
+        w
+    }
+
     /// A label for the table: the method, and friction stops when on.
     pub fn label(&self, tol: f64) -> String {
         let stops = if self.stops { ", friction stops" } else { "" };
@@ -83,11 +97,7 @@ fn tolerance() -> f64 {
 
 /// pbdda on `scene` at tolerance `tol` with the method and friction-stop rule of `cfg`.
 pub fn pbdda(scene: &Scene, tol: f64, cfg: Config) -> Run {
-    let mut model = scene.model(tol);
-    model.solver.method = cfg.method;
-    let mut w = World::new(model);
-    w.settings.friction_stops = cfg.stops;
-    w.settings.contact_records = false;
+    let mut w = cfg.world(scene, tol);
     let free: Vec<usize> = (0..scene.bodies.len()).filter(|&i| !scene.bodies[i].fixed).collect();
     let start: Vec<Vec2> = free.iter().map(|&i| w.bodies[i].centroid).collect();
     let mut run = Run {
@@ -338,15 +348,7 @@ pub fn trade(dts: &[f64]) {
 /// answered, unconverged steps (tolerance `PBDDA_TOL`).
 pub fn paired(key: &str, configs: &[Config]) {
     let scene = scene_of(key).unwrap_or_else(|| panic!("unknown scene {key}: one of {SCENES:?}"));
-    let world = |cfg: &Config| {
-        let mut model = scene.model(tolerance());
-        model.solver.method = cfg.method;
-        let mut w = World::new(model);
-        w.settings.friction_stops = cfg.stops;
-        w.settings.contact_records = false;
-        w
-    };
-    let mut w = world(&configs[0]);
+    let mut w = configs[0].world(&scene, tolerance());
     // (iterations, seconds, unconverged) per configuration
     let mut total = vec![(0usize, 0.0f64, 0usize); configs.len()];
     for step in 1..=scene.steps {
@@ -354,8 +356,7 @@ pub fn paired(key: &str, configs: &[Config]) {
         for (k, cfg) in configs.iter().enumerate().rev() {
             let mut copy = (k > 0).then(|| {
                 let mut c = w.clone();
-                c.model.solver.method = cfg.method;
-                c.settings.friction_stops = cfg.stops;
+                cfg.apply(&mut c);
                 c
             });
             let t = Instant::now();
